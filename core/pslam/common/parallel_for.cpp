@@ -1,0 +1,68 @@
+#include "pslam/common/parallel_for.hpp"
+
+#include <algorithm>
+
+namespace pslam {
+
+ThreadPool::ThreadPool(int threads) {
+  if (threads <= 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  for (int w = 1; w < threads; ++w) workers_.emplace_back([this, w] { WorkerLoop(w); });
+}
+
+ThreadPool::~ThreadPool() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  for (auto& t : workers_) t.join();
+}
+
+namespace {
+void RunSlice(const std::function<void(int)>& body, int n, int slice, int slices) {
+  const int begin = n * slice / slices, end = n * (slice + 1) / slices;
+  for (int i = begin; i < end; ++i) body(i);
+}
+}  // namespace
+
+void ThreadPool::ParallelFor(int n, const std::function<void(int)>& body) {
+  if (workers_.empty() || n <= 1) {
+    for (int i = 0; i < n; ++i) body(i);
+    return;
+  }
+  {
+    std::lock_guard lock(mutex_);
+    body_ = &body;
+    n_ = n;
+    pending_ = static_cast<int>(workers_.size());
+    ++generation_;
+  }
+  wake_.notify_all();
+  RunSlice(body, n, 0, size());
+  std::unique_lock lock(mutex_);
+  done_.wait(lock, [this] { return pending_ == 0; });
+  body_ = nullptr;
+}
+
+void ThreadPool::WorkerLoop(int worker) {
+  int seen = 0;
+  for (;;) {
+    const std::function<void(int)>* body;
+    int n;
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+      if (stop_) return;
+      seen = generation_;
+      body = body_;
+      n = n_;
+    }
+    RunSlice(*body, n, worker, size());
+    {
+      std::lock_guard lock(mutex_);
+      if (--pending_ == 0) done_.notify_one();
+    }
+  }
+}
+
+}  // namespace pslam

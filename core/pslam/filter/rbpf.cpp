@@ -1,0 +1,135 @@
+#include "pslam/filter/rbpf.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "pslam/common/random.hpp"
+#include "pslam/filter/resampling.hpp"
+#include "pslam/matching/scan_likelihood.hpp"
+#include "pslam/matching/scan_matcher.hpp"
+
+namespace pslam {
+
+Rbpf::Rbpf(const RbpfOptions& options)
+    : options_(options), inserter_(options.insert), pool_(options.threads) {}
+
+std::vector<double> Rbpf::Weights() const {
+  std::vector<double> lw;
+  lw.reserve(particles_.size());
+  for (const auto& p : particles_) lw.push_back(p.log_weight);
+  return NormalizeLogWeights(lw);
+}
+
+void Rbpf::SelectBest() {
+  best_ = static_cast<int>(std::max_element(particles_.begin(), particles_.end(),
+                                            [](const Particle& a, const Particle& b) { return a.log_weight < b.log_weight; }) -
+                           particles_.begin());
+}
+
+void Rbpf::Initialize(const LaserScan& scan) {
+  const ScanPoints points = ToScanPoints(scan, options_.points);
+  Particle first{options_.initial_pose, 0.0, OccupancyGrid(options_.resolution),
+                 std::make_shared<TrajectoryNode>(TrajectoryNode{options_.initial_pose, 0, nullptr})};
+  inserter_.Insert(points, first.pose, first.map);
+  particles_.assign(static_cast<std::size_t>(std::max(1, options_.particles)), first);
+  odometry_at_update_ = scan.odometry;
+  tracked_.push_back(Pose2D());
+  last_pose_ = options_.initial_pose;
+  best_ = 0;
+}
+
+RbpfStep Rbpf::AddScan(const LaserScan& scan) {
+  RbpfStep step;
+  ++stats_.scans;
+  if (particles_.empty()) {
+    Initialize(scan);
+    step.updated = true;
+    step.neff = static_cast<double>(particles_.size());
+    step.pose = last_pose_;
+    ++stats_.updates;
+    stats_.neff = step.neff;
+    return step;
+  }
+  const ScanPoints points = ToScanPoints(scan, options_.points);
+  // Track the scan against the best map, starting from where odometry says the robot went.
+  const Particle& tracker = best();
+  const Pose2D guess = tracker.pose * Between(odometry_at_update_, scan.odometry);
+  const ScanMatchResult tracked = MatchScan(tracker.map, points.hits, guess, options_.tracking_match);
+  const Pose2D motion = Between(tracker.pose, tracked.pose);
+  tracked_.push_back(motion);
+  last_pose_ = tracked.pose;
+
+  const bool moved_enough = std::hypot(motion.x, motion.y) >= options_.linear_update ||
+                            std::abs(motion.theta) >= options_.angular_update;
+  if (moved_enough) {
+    UpdateParticles(motion, points.hits);
+    const std::vector<double> weights = Weights();
+    step.neff = EffectiveSampleSize(weights);
+    if (step.neff < options_.resample_threshold * static_cast<double>(particles_.size())) {
+      auto rng = MakeStream(options_.seed, static_cast<std::uint64_t>(stats_.updates), ~0ull);
+      const std::vector<int> picks = SystematicResample(weights, rng);
+      std::vector<Particle> next;
+      next.reserve(particles_.size());
+      for (int i : picks) {
+        next.push_back(particles_[static_cast<std::size_t>(i)]);
+        next.back().log_weight = 0.0;
+      }
+      particles_ = std::move(next);
+      step.resampled = true;
+      ++stats_.resamplings;
+    }
+    pool_.ParallelFor(static_cast<int>(particles_.size()),
+                      [&](int i) { inserter_.Insert(points, particles_[static_cast<std::size_t>(i)].pose, particles_[static_cast<std::size_t>(i)].map); });
+    SelectBest();
+    odometry_at_update_ = scan.odometry;
+    last_pose_ = best().pose;
+    step.updated = true;
+    ++stats_.updates;
+    stats_.neff = step.neff;
+  } else {
+    step.neff = stats_.neff;
+  }
+  step.best = best_;
+  step.pose = last_pose_;
+  return step;
+}
+
+void Rbpf::UpdateParticles(const Pose2D& motion, const std::vector<Eigen::Vector2f>& hits) {
+  const int scan_index = static_cast<int>(tracked_.size()) - 1;
+  const auto update = static_cast<std::uint64_t>(stats_.updates);
+  pool_.ParallelFor(static_cast<int>(particles_.size()), [&](int i) {
+    Particle& p = particles_[static_cast<std::size_t>(i)];
+    auto rng = MakeStream(options_.seed, update, static_cast<std::uint64_t>(i));
+    p.pose = p.pose * SampleMotion(motion, options_.motion, rng);
+    const ScanMatchResult match = MatchScan(p.map, hits, p.pose, options_.particle_match);
+    if (match.converged) p.pose = match.pose;
+    const ScanLikelihood likelihood = ComputeScanLikelihood(p.map, hits, p.pose, options_.likelihood);
+    p.log_weight += likelihood.log_likelihood / options_.likelihood_temperature;
+    p.node = std::make_shared<TrajectoryNode>(TrajectoryNode{p.pose, scan_index, p.node});
+  });
+}
+
+std::vector<Pose2D> Rbpf::Trajectory() const {
+  std::vector<Pose2D> out(tracked_.size());
+  if (particles_.empty()) return out;
+  std::vector<const TrajectoryNode*> chain;
+  for (const TrajectoryNode* n = best().node.get(); n; n = n->parent.get()) chain.push_back(n);
+  std::reverse(chain.begin(), chain.end());
+  for (std::size_t k = 0; k < chain.size(); ++k) {
+    const TrajectoryNode& a = *chain[k];
+    const int begin = a.scan_index;
+    const int end = k + 1 < chain.size() ? chain[k + 1]->scan_index : static_cast<int>(tracked_.size());
+    out[static_cast<std::size_t>(begin)] = a.pose;
+    // Spread the disagreement between tracking and the next update evenly over the scans between.
+    Pose2D correction;
+    if (k + 1 < chain.size()) correction = Between(a.pose * tracked_[static_cast<std::size_t>(end)], chain[k + 1]->pose);
+    for (int s = begin + 1; s < end; ++s) {
+      const double t = static_cast<double>(s - begin) / static_cast<double>(end - begin);
+      out[static_cast<std::size_t>(s)] = a.pose * tracked_[static_cast<std::size_t>(s)] * Interpolate(Pose2D(), correction, t);
+    }
+  }
+  return out;
+}
+
+}  // namespace pslam

@@ -1,0 +1,81 @@
+#pragma once
+// Rao-Blackwellized particle filter for grid SLAM (paper section IV-B): each particle carries a
+// pose, a map and a weight. Every scan is first tracked against the best particle's map (scan
+// matching stabilises the raw odometry, as the paper does); once the robot has moved far enough,
+// every particle samples the stabilised motion, refines it against its own map, is weighed by the
+// scan likelihood, and the set is resampled when N_eff falls low. Then the scan is inserted.
+#include <memory>
+#include <vector>
+
+#include "pslam/common/parallel_for.hpp"
+#include "pslam/filter/rbpf_options.hpp"
+#include "pslam/grid/occupancy_grid.hpp"
+#include "pslam/sensor/laser_scan.hpp"
+
+namespace pslam {
+
+// A particle's trajectory at its updates. Nodes are shared between particles that descend from the
+// same ancestor, so resampling copies a pointer, not a history.
+struct TrajectoryNode {
+  Pose2D pose;
+  int scan_index = 0;
+  std::shared_ptr<const TrajectoryNode> parent;
+};
+
+struct Particle {
+  Pose2D pose;                       // at the last update
+  double log_weight = 0.0;           // since the last resampling
+  OccupancyGrid map;
+  std::shared_ptr<const TrajectoryNode> node;
+};
+
+struct RbpfStep {
+  bool updated = false;              // the particles were moved, weighed and the scan inserted
+  bool resampled = false;
+  double neff = 0.0;                 // effective sample size after the update
+  int best = 0;                      // index of the best particle
+  Pose2D pose;                       // best estimate of the robot pose at this scan
+};
+
+struct RbpfStats {
+  int scans = 0;
+  int updates = 0;
+  int resamplings = 0;
+  double neff = 0.0;
+};
+
+class Rbpf {
+ public:
+  explicit Rbpf(const RbpfOptions& options);
+
+  RbpfStep AddScan(const LaserScan& scan);
+
+  const std::vector<Particle>& particles() const { return particles_; }
+  int best_index() const { return best_; }
+  const Particle& best() const { return particles_[static_cast<std::size_t>(best_)]; }
+  const RbpfStats& stats() const { return stats_; }
+  const RbpfOptions& options() const { return options_; }
+  // Normalised weights of the particles.
+  std::vector<double> Weights() const;
+
+  // The best particle's pose at every scan added so far: its own poses at updates, and in between
+  // the tracked motion, bent so that it meets the next update exactly.
+  std::vector<Pose2D> Trajectory() const;
+
+ private:
+  void Initialize(const LaserScan& scan);
+  void UpdateParticles(const Pose2D& motion, const std::vector<Eigen::Vector2f>& hits);
+  void SelectBest();
+
+  RbpfOptions options_;
+  ScanInserter inserter_;
+  ThreadPool pool_;
+  std::vector<Particle> particles_;
+  int best_ = 0;
+  RbpfStats stats_;
+  Pose2D odometry_at_update_;
+  std::vector<Pose2D> tracked_;      // per scan: pose relative to the tracked particle's last update
+  Pose2D last_pose_;
+};
+
+}  // namespace pslam

@@ -1,0 +1,114 @@
+#pragma once
+// Occupancy grid of log-odds cells that grows as the robot explores. Cells live in 64x64 tiles held
+// by shared pointers: copying a grid copies only tile pointers, and a tile is cloned the first time
+// a shared copy is written (copy on write). This is what lets hundreds of particles keep their own
+// map while sharing everything they have not changed since resampling.
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <vector>
+
+namespace pslam {
+
+struct CellBox {  // inclusive cell-index bounds; empty when min > max
+  Eigen::Vector2i min{1, 1};
+  Eigen::Vector2i max{0, 0};
+  bool empty() const { return min.x() > max.x() || min.y() > max.y(); }
+  int width() const { return empty() ? 0 : max.x() - min.x() + 1; }
+  int height() const { return empty() ? 0 : max.y() - min.y() + 1; }
+  void Extend(const Eigen::Vector2i& c) {
+    if (empty()) { min = max = c; return; }
+    min = min.cwiseMin(c);
+    max = max.cwiseMax(c);
+  }
+};
+
+class OccupancyGrid {
+ public:
+  using Cell = std::int16_t;                      // log-odds in milli-units
+  static constexpr Cell kUnknown = std::numeric_limits<Cell>::min();
+  static constexpr float kLogOddsPerUnit = 1e-3f;
+  static constexpr int kTileBits = 6;
+  static constexpr int kTileSize = 1 << kTileBits;
+  static constexpr int kTileMask = kTileSize - 1;
+  struct Tile {
+    std::array<Cell, kTileSize * kTileSize> cells;
+    std::uint64_t revision = 0;                    // bumped by every write batch, for change tracking
+  };
+
+  explicit OccupancyGrid(double resolution = 0.05);
+
+  double resolution() const { return resolution_; }
+  Eigen::Vector2i WorldToCell(const Eigen::Vector2d& p) const {
+    return {static_cast<int>(std::floor(p.x() / resolution_)), static_cast<int>(std::floor(p.y() / resolution_))};
+  }
+  Eigen::Vector2d CellCenter(const Eigen::Vector2i& c) const {
+    return {(c.x() + 0.5) * resolution_, (c.y() + 0.5) * resolution_};
+  }
+
+  Cell At(int cx, int cy) const {
+    const Tile* t = TileAt(cx >> kTileBits, cy >> kTileBits);
+    return t ? t->cells[Local(cx, cy)] : kUnknown;
+  }
+  bool IsKnown(int cx, int cy) const { return At(cx, cy) != kUnknown; }
+  // Log-odds of a cell; 0 (p = 0.5) for unknown cells.
+  float LogOdds(int cx, int cy) const {
+    const Cell c = At(cx, cy);
+    return c == kUnknown ? 0.0f : static_cast<float>(c) * kLogOddsPerUnit;
+  }
+  float Probability(int cx, int cy) const;
+
+  // Writable cell, creating, growing and un-sharing the tile as needed.
+  Cell& MutableAt(int cx, int cy);
+  // Adds `delta` (milli log-odds) to a cell, clamped to [lo, hi]; an unknown cell starts at 0.
+  void AddLogOdds(int cx, int cy, int delta, int lo, int hi) {
+    Cell& c = MutableAt(cx, cy);
+    const int base = c == kUnknown ? 0 : c;
+    c = static_cast<Cell>(std::clamp(base + delta, lo, hi));
+  }
+
+  // Bounds of all cells that have been observed at least once.
+  CellBox KnownBounds() const;
+  // Tile-level access for exporters and change tracking: tile coordinates are cell >> kTileBits.
+  const Tile* TileAt(int tx, int ty) const {
+    const int ix = tx - tile_origin_.x(), iy = ty - tile_origin_.y();
+    if (ix < 0 || iy < 0 || ix >= tiles_w_ || iy >= tiles_h_) return nullptr;
+    return tiles_[static_cast<std::size_t>(iy) * tiles_w_ + ix].get();
+  }
+  Eigen::Vector2i tile_origin() const { return tile_origin_; }
+  int tiles_wide() const { return tiles_w_; }
+  int tiles_high() const { return tiles_h_; }
+  std::size_t AllocatedTiles() const;
+  // Bytes held by tiles that no other grid shares: what this copy costs on its own.
+  std::size_t UniqueBytes() const;
+
+  static int Local(int cx, int cy) { return ((cy & kTileMask) << kTileBits) | (cx & kTileMask); }
+
+ private:
+  void EnsureTileSlot(int tx, int ty);
+
+  double resolution_;
+  Eigen::Vector2i tile_origin_{0, 0};
+  int tiles_w_ = 0;
+  int tiles_h_ = 0;
+  std::vector<std::shared_ptr<Tile>> tiles_;
+  // Cache of the last tile written, known to be unshared; cleared on both sides when the grid is
+  // copied, since the tile is shared from then on.
+  mutable Tile* write_cache_ = nullptr;
+  Eigen::Vector2i write_cache_tile_{0, 0};
+
+ public:
+  OccupancyGrid(const OccupancyGrid& other);
+  OccupancyGrid& operator=(const OccupancyGrid& other);
+  OccupancyGrid(OccupancyGrid&&) noexcept = default;
+  OccupancyGrid& operator=(OccupancyGrid&&) noexcept = default;
+};
+
+// Probability of occupancy for a stored cell value (0.5 for unknown), by table lookup.
+float CellProbability(OccupancyGrid::Cell c);
+
+}  // namespace pslam

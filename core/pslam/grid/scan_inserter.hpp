@@ -1,0 +1,27 @@
+#pragma once
+// The inverse sensor model: cells along each beam become more likely free, the endpoint cell more
+// likely occupied, in log-odds with clamping so that the map stays able to change.
+#include "pslam/common/pose2d.hpp"
+#include "pslam/grid/occupancy_grid.hpp"
+#include "pslam/sensor/scan_points.hpp"
+
+namespace pslam {
+
+struct ScanInsertOptions {
+  double hit_probability = 0.7;
+  double miss_probability = 0.4;
+  double min_probability = 0.12;   // clamping: how sure a cell may become of being free ...
+  double max_probability = 0.97;   // ... or occupied
+};
+
+class ScanInserter {
+ public:
+  explicit ScanInserter(const ScanInsertOptions& options = {});
+  // Misses first, then hits, so that a beam grazing a wall does not erase another beam's hit.
+  void Insert(const ScanPoints& points, const Pose2D& robot_pose, OccupancyGrid& grid) const;
+
+ private:
+  int hit_, miss_, lo_, hi_;  // milli log-odds
+};
+
+}  // namespace pslam

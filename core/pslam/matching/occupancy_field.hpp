@@ -1,0 +1,31 @@
+#pragma once
+// A smooth view of an occupancy grid for gradient-based scan matching: the "occupancy evidence"
+// max(0, 2p - 1) of each cell (free and unknown space carry none), bilinearly interpolated. Coarse
+// levels take the maximum over 2^k x 2^k blocks of cells, which widens the basin of convergence
+// without storing extra maps per particle.
+#include <Eigen/Core>
+
+#include "pslam/grid/occupancy_grid.hpp"
+
+namespace pslam {
+
+class OccupancyField {
+ public:
+  OccupancyField(const OccupancyGrid& grid, int level);
+
+  // Interpolated evidence at a world point, and its gradient (per metre).
+  float Value(const Eigen::Vector2f& world, Eigen::Vector2f* gradient) const;
+  double cell_size() const { return cell_size_; }
+
+ private:
+  float Coarse(int i, int j) const;
+
+  const OccupancyGrid& grid_;
+  int level_;
+  double cell_size_;
+};
+
+// Table lookup of max(0, 2p - 1) for a stored cell value.
+float CellEvidence(OccupancyGrid::Cell c);
+
+}  // namespace pslam

@@ -1,0 +1,101 @@
+#include "pslam/matching/scan_matcher.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+
+#include "pslam/matching/occupancy_field.hpp"
+
+namespace pslam {
+namespace {
+
+struct Linearization {
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();
+  double cost = 0.0;  // sum of (1 - M)^2
+};
+
+Linearization Linearize(const OccupancyField& field, const std::vector<Eigen::Vector2f>& points, const Pose2D& pose,
+                        bool with_jacobian) {
+  Linearization lin;
+  const float c = static_cast<float>(std::cos(pose.theta)), s = static_cast<float>(std::sin(pose.theta));
+  const Eigen::Vector2f t(static_cast<float>(pose.x), static_cast<float>(pose.y));
+  for (const auto& p : points) {
+    const Eigen::Vector2f w(c * p.x() - s * p.y() + t.x(), s * p.x() + c * p.y() + t.y());
+    Eigen::Vector2f grad;
+    const float m = field.Value(w, with_jacobian ? &grad : nullptr);
+    const double r = 1.0 - m;
+    lin.cost += r * r;
+    if (!with_jacobian) continue;
+    // d(world)/d(theta) = (-s px - c py, c px - s py)
+    const float dth = grad.x() * (-s * p.x() - c * p.y()) + grad.y() * (c * p.x() - s * p.y());
+    const Eigen::Vector3d J(grad.x(), grad.y(), dth);
+    lin.H.noalias() += J * J.transpose();
+    lin.g.noalias() += J * r;
+  }
+  return lin;
+}
+
+Pose2D ApplyStep(const Pose2D& pose, const Eigen::Vector3d& delta, const ScanMatchOptions& o) {
+  const double tn = delta.head<2>().norm();
+  const double scale = tn > o.max_translation_step ? o.max_translation_step / tn : 1.0;
+  return {pose.x + delta.x() * scale, pose.y + delta.y() * scale,
+          pose.theta + std::clamp(delta.z(), -o.max_rotation_step, o.max_rotation_step)};
+}
+
+// Levenberg-Marquardt on one level: a step is kept only if it lowers the cost, otherwise the
+// damping grows. Bilinear occupancy is not smooth, and plain Gauss-Newton overshoots on it.
+void RefineOnLevel(const OccupancyField& field, const std::vector<Eigen::Vector2f>& points, Pose2D& pose,
+                   const ScanMatchOptions& o, Eigen::Matrix3d* hessian) {
+  Linearization lin = Linearize(field, points, pose, true);
+  double lambda = o.damping;
+  for (int it = 0; it < o.iterations_per_level; ++it) {
+    if (lin.H.diagonal().minCoeff() <= 1e-9) break;  // no structure in view along some axis
+    Eigen::Matrix3d A = lin.H;
+    A.diagonal() *= 1.0 + lambda;
+    const Eigen::Vector3d delta = A.ldlt().solve(lin.g);
+    if (!delta.allFinite()) break;
+    const Pose2D candidate = ApplyStep(pose, delta, o);
+    Linearization next = Linearize(field, points, candidate, true);
+    if (next.cost < lin.cost) {
+      pose = candidate;
+      lin = std::move(next);
+      lambda = std::max(lambda / 4.0, 1e-6);
+      if (delta.head<2>().norm() < 1e-4 && std::abs(delta.z()) < 1e-4) break;
+    } else {
+      lambda *= 8.0;
+      if (lambda > 1e3) break;
+    }
+  }
+  if (hessian) *hessian = lin.H;
+}
+
+}  // namespace
+
+double ScoreScan(const OccupancyGrid& grid, const std::vector<Eigen::Vector2f>& points, const Pose2D& pose) {
+  if (points.empty()) return 0.0;
+  const OccupancyField field(grid, 0);
+  const float c = static_cast<float>(std::cos(pose.theta)), s = static_cast<float>(std::sin(pose.theta));
+  double sum = 0.0;
+  for (const auto& p : points) {
+    const Eigen::Vector2f w(c * p.x() - s * p.y() + static_cast<float>(pose.x), s * p.x() + c * p.y() + static_cast<float>(pose.y));
+    sum += field.Value(w, nullptr);
+  }
+  return sum / static_cast<double>(points.size());
+}
+
+ScanMatchResult MatchScan(const OccupancyGrid& grid, const std::vector<Eigen::Vector2f>& points,
+                          const Pose2D& initial, const ScanMatchOptions& o) {
+  ScanMatchResult result;
+  result.pose = initial;
+  if (points.empty()) return result;
+  for (int level = o.coarsest_level; level >= 0; --level) {
+    RefineOnLevel(OccupancyField(grid, level), points, result.pose, o, level == 0 ? &result.hessian : nullptr);
+  }
+  result.score = ScoreScan(grid, points, result.pose);
+  result.converged = result.score >= o.min_score;
+  if (!result.converged) result.pose = initial;
+  return result;
+}
+
+}  // namespace pslam

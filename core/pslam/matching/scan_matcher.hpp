@@ -1,0 +1,35 @@
+#pragma once
+// Gauss-Newton scan-to-map matching (as in Kohlbrecher et al.'s Hector mapping): minimise
+// sum_i (1 - M(T(p_i)))^2 over the pose T, where M is the smooth occupancy evidence of the map.
+// It runs coarse to fine over max-pooled levels of the same grid.
+#include <Eigen/Core>
+#include <vector>
+
+#include "pslam/common/pose2d.hpp"
+#include "pslam/grid/occupancy_grid.hpp"
+
+namespace pslam {
+
+struct ScanMatchOptions {
+  int coarsest_level = 1;            // levels coarsest_level ... 0; each doubles the cell size
+  int iterations_per_level = 10;
+  double max_translation_step = 0.1; // metres per iteration, a guard against wild steps
+  double max_rotation_step = 0.1;    // radians per iteration
+  double damping = 1e-3;             // Levenberg term relative to the Hessian's diagonal
+  double min_score = 0.15;           // below this mean evidence the match is not trusted
+};
+
+struct ScanMatchResult {
+  Pose2D pose;
+  double score = 0.0;           // mean evidence at the endpoints, in [0, 1]
+  bool converged = false;       // score reached min_score
+  Eigen::Matrix3d hessian = Eigen::Matrix3d::Zero();  // J^T J at the optimum, on the finest level
+};
+
+ScanMatchResult MatchScan(const OccupancyGrid& grid, const std::vector<Eigen::Vector2f>& points_in_robot,
+                          const Pose2D& initial, const ScanMatchOptions& options);
+
+// Mean evidence of the points at a pose (finest level).
+double ScoreScan(const OccupancyGrid& grid, const std::vector<Eigen::Vector2f>& points_in_robot, const Pose2D& pose);
+
+}  // namespace pslam

@@ -1,0 +1,44 @@
+#include "pslam/sensor/scan_points.hpp"
+
+#include <cmath>
+
+namespace pslam {
+
+ScanPoints ToScanPoints(const LaserScan& scan, const ScanPointsOptions& options) {
+  ScanPoints out;
+  const Pose2D& mount = scan.sensor_offset;
+  out.origin = Eigen::Vector2f(static_cast<float>(mount.x), static_cast<float>(mount.y));
+  out.hits.reserve(scan.ranges.size());
+  const double spacing2 = options.min_point_spacing * options.min_point_spacing;
+  for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
+    const double angle = scan.BeamAngle(i);
+    const Eigen::Vector2d dir(std::cos(angle), std::sin(angle));
+    if (scan.IsReturn(i)) {
+      const double r = scan.ranges[i];
+      if (r > options.max_usable_range) {
+        out.free_ends.push_back((mount * (dir * options.max_usable_range)).cast<float>());
+        continue;
+      }
+      const Eigen::Vector2f p = (mount * (dir * r)).cast<float>();
+      if (spacing2 > 0.0 && !out.hits.empty() && (p - out.hits.back()).squaredNorm() < spacing2) continue;
+      out.hits.push_back(p);
+    } else if (options.no_return_free_range > 0.0) {
+      const float r = scan.ranges[i];
+      // NaN and non-positive readings say nothing about free space; only "no echo" readings do.
+      if (std::isfinite(r) ? r >= scan.max_range : std::isinf(r) && r > 0) {
+        out.free_ends.push_back((mount * (dir * options.no_return_free_range)).cast<float>());
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<Eigen::Vector2f> Decimate(const std::vector<Eigen::Vector2f>& points, int step) {
+  if (step <= 1) return points;
+  std::vector<Eigen::Vector2f> out;
+  out.reserve(points.size() / static_cast<std::size_t>(step) + 1);
+  for (std::size_t i = 0; i < points.size(); i += static_cast<std::size_t>(step)) out.push_back(points[i]);
+  return out;
+}
+
+}  // namespace pslam

@@ -1,0 +1,28 @@
+#pragma once
+// A laser scan turned into points in the robot frame, once per scan, so that every particle can
+// reuse them: hits (endpoints of returns) and free-space ends (beams without a usable return).
+#include <Eigen/Core>
+#include <vector>
+
+#include "pslam/sensor/laser_scan.hpp"
+
+namespace pslam {
+
+struct ScanPointsOptions {
+  double max_usable_range = 20.0;      // returns beyond this only carve free space, up to this range
+  double no_return_free_range = 0.0;   // free space carved along beams with no return (0: none)
+  double min_point_spacing = 0.0;      // drop hits closer than this to the previous kept hit
+};
+
+struct ScanPoints {
+  Eigen::Vector2f origin{0.0f, 0.0f};        // sensor position in the robot frame
+  std::vector<Eigen::Vector2f> hits;         // in the robot frame
+  std::vector<Eigen::Vector2f> free_ends;    // in the robot frame: carve free space, mark nothing
+};
+
+ScanPoints ToScanPoints(const LaserScan& scan, const ScanPointsOptions& options);
+
+// Every `step`-th hit (all if step <= 1): a cheaper point set for scoring.
+std::vector<Eigen::Vector2f> Decimate(const std::vector<Eigen::Vector2f>& points, int step);
+
+}  // namespace pslam

@@ -1,0 +1,15 @@
+#pragma once
+// Subcommands of the `pslam` CLI. main.cpp dispatches on the first argument and passes the
+// arguments after it; each returns the process exit code (0 ok, 1 failure, 2 usage error).
+#include <string>
+#include <vector>
+
+namespace pslam {
+
+// `pslam eval`: relative pose error of a trajectory, or KL divergence between two maps.
+int RunEvalCommand(const std::vector<std::string>& args);
+
+// `pslam run`: maps a CARMEN log with the particle filter.
+int RunRunCommand(const std::vector<std::string>& args);
+
+}  // namespace pslam

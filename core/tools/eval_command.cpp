@@ -1,0 +1,93 @@
+// `pslam eval`: the two accuracy measures of the project, as a table or as one JSON object.
+#include <cstdio>
+#include <exception>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cli_args.hpp"
+#include "commands.hpp"
+#include "pslam/eval/map_divergence.hpp"
+#include "pslam/eval/relative_pose_error.hpp"
+#include "pslam/eval/trajectory_io.hpp"
+#include "pslam/io/map_io.hpp"
+
+namespace pslam {
+namespace {
+
+constexpr const char* kUsage =
+    "usage: pslam eval --trajectory FILE --relations FILE [--json]\n"
+    "       pslam eval --map MAP.yaml --reference REFERENCE.yaml [--json]\n"
+    "  The first form gives the relative pose error (Kuemmerle et al. 2009) of a trajectory\n"
+    "  ('timestamp x y theta' lines) against ground-truth relations ('t1 t2 x y z roll pitch yaw').\n"
+    "  The second gives the KL divergence D_KL(reference || map) of P-SLAM eq. 24 (lower is better).\n";
+
+int UsageError(const std::string& message) {
+  std::fprintf(stderr, "%s%s", message.c_str(), kUsage);
+  return 2;
+}
+
+int PrintRpe(const std::string& trajectory_path, const std::string& relations_path, bool json) {
+  const RpeResult r = ComputeRpe(ReadTrajectory(trajectory_path), ReadRelations(relations_path));
+  if (r.used == 0) {
+    std::fprintf(stderr, "pslam eval: no relation of %s matches stamps in %s (%zu missing)\n", relations_path.c_str(),
+                 trajectory_path.c_str(), r.missing);
+    return 1;
+  }
+  if (json) {
+    std::printf(
+        "{\"used\": %zu, \"missing\": %zu, \"trans_mean_m\": %.9g, \"trans_std_m\": %.9g, \"trans_max_m\": %.9g, "
+        "\"rot_mean_deg\": %.9g, \"rot_std_deg\": %.9g, \"rot_max_deg\": %.9g, \"trans2_mean_m2\": %.9g, "
+        "\"trans2_std_m2\": %.9g, \"rot2_mean_deg2\": %.9g, \"rot2_std_deg2\": %.9g}\n",
+        r.used, r.missing, r.trans_mean, r.trans_std, r.trans_max, r.rot_mean_deg, r.rot_std_deg, r.rot_max_deg,
+        r.trans2_mean, r.trans2_std, r.rot2_mean_deg2, r.rot2_std_deg2);
+    return 0;
+  }
+  std::printf("relations: %zu used, %zu missing\n", r.used, r.missing);
+  std::printf("%-24s %12s   %-12s %12s\n", "relative pose error", "mean", "std", "max");
+  const auto row = [](const char* name, double mean, double std, double max) {
+    std::printf("%-24s %12.6f \xC2\xB1 %-12.6f %12.6f\n", name, mean, std, max);  // U+00B1 '±'
+  };
+  row("translation [m]", r.trans_mean, r.trans_std, r.trans_max);
+  row("rotation [deg]", r.rot_mean_deg, r.rot_std_deg, r.rot_max_deg);
+  row("translation^2 [m^2]", r.trans2_mean, r.trans2_std, r.trans_max * r.trans_max);
+  row("rotation^2 [deg^2]", r.rot2_mean_deg2, r.rot2_std_deg2, r.rot_max_deg * r.rot_max_deg);
+  return 0;
+}
+
+int PrintKl(const std::string& map_path, const std::string& reference_path, bool json) {
+  const MapDivergence d = ComputeMapDivergence(LoadMap(reference_path), LoadMap(map_path));
+  if (json) {
+    std::printf("{\"kl\": %.9g, \"cells\": %zu}\n", d.kl, d.cells);
+  } else {
+    std::printf("KL divergence D_KL(reference || map): %.6g nats over %zu reference cells\n", d.kl, d.cells);
+  }
+  return 0;
+}
+
+}  // namespace
+
+int RunEvalCommand(const std::vector<std::string>& args) {
+  CliArgs cli(args);
+  const bool help = cli.Flag("--help") || cli.Flag("-h");
+  const bool json = cli.Flag("--json");
+  const std::optional<std::string> trajectory = cli.Value("--trajectory"), relations = cli.Value("--relations");
+  const std::optional<std::string> map = cli.Value("--map"), reference = cli.Value("--reference");
+  if (!cli.ok()) return UsageError(cli.error());
+  if (help) {
+    std::printf("%s", kUsage);
+    return 0;
+  }
+  const bool rpe_mode = trajectory || relations, kl_mode = map || reference;
+  if (rpe_mode == kl_mode) return UsageError("give either --trajectory and --relations, or --map and --reference\n");
+  if (rpe_mode && !(trajectory && relations)) return UsageError("--trajectory and --relations go together\n");
+  if (kl_mode && !(map && reference)) return UsageError("--map and --reference go together\n");
+  try {
+    return rpe_mode ? PrintRpe(*trajectory, *relations, json) : PrintKl(*map, *reference, json);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "pslam eval: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace pslam

@@ -1,0 +1,80 @@
+#include "pslam/grid/occupancy_grid.hpp"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "pslam/grid/ray_caster.hpp"
+#include "pslam/grid/scan_inserter.hpp"
+#include "testing/synthetic_world.hpp"
+
+namespace pslam {
+namespace {
+
+TEST(OccupancyGrid, UnknownUntilWrittenAndGrowsInEveryDirection) {
+  OccupancyGrid grid(0.05);
+  EXPECT_FALSE(grid.IsKnown(0, 0));
+  EXPECT_FLOAT_EQ(grid.Probability(0, 0), 0.5f);
+  grid.AddLogOdds(-300, 500, 800, -2000, 3500);
+  grid.AddLogOdds(700, -90, -400, -2000, 3500);
+  EXPECT_TRUE(grid.IsKnown(-300, 500));
+  EXPECT_GT(grid.Probability(-300, 500), 0.68f);
+  EXPECT_LT(grid.Probability(700, -90), 0.41f);
+  const CellBox box = grid.KnownBounds();
+  EXPECT_EQ(box.min, Eigen::Vector2i(-300, -90));
+  EXPECT_EQ(box.max, Eigen::Vector2i(700, 500));
+  EXPECT_EQ(grid.AllocatedTiles(), 2u);
+}
+
+TEST(OccupancyGrid, ClampsLogOdds) {
+  OccupancyGrid grid(0.05);
+  for (int i = 0; i < 100; ++i) grid.AddLogOdds(3, 4, 850, -2000, 3500);
+  EXPECT_NEAR(grid.LogOdds(3, 4), 3.5f, 1e-6);
+}
+
+TEST(OccupancyGrid, CopiesShareTilesUntilWritten) {
+  OccupancyGrid a(0.05);
+  for (int x = 0; x < 640; x += 8) a.AddLogOdds(x, 0, 500, -2000, 3500);
+  const std::size_t tiles = a.AllocatedTiles();
+  OccupancyGrid b = a;
+  EXPECT_LT(b.UniqueBytes(), sizeof(OccupancyGrid::Tile));  // nothing of its own yet
+  b.AddLogOdds(1, 0, 500, -2000, 3500);                     // writes one tile
+  EXPECT_EQ(b.UniqueBytes() / sizeof(OccupancyGrid::Tile), 1u);
+  EXPECT_FLOAT_EQ(a.LogOdds(1, 0), 0.0f);                   // the original is untouched
+  EXPECT_FALSE(a.IsKnown(1, 0));
+  EXPECT_TRUE(b.IsKnown(1, 0));
+  // Writing to the original after the copy must not leak into the copy either.
+  a.AddLogOdds(8, 0, 500, -2000, 3500);
+  EXPECT_FLOAT_EQ(b.LogOdds(8, 0), 0.5f);
+  EXPECT_EQ(a.AllocatedTiles(), tiles);
+}
+
+TEST(RayCaster, VisitsEveryCellOnceExcludingTheEnd) {
+  std::vector<Eigen::Vector2i> cells;
+  TraceRay({0, 0}, {5, 2}, [&](int x, int y) { cells.emplace_back(x, y); });
+  ASSERT_EQ(cells.size(), 5u);
+  EXPECT_EQ(cells.front(), Eigen::Vector2i(0, 0));
+  for (std::size_t i = 1; i < cells.size(); ++i) EXPECT_LE((cells[i] - cells[i - 1]).cwiseAbs().maxCoeff(), 1);
+  cells.clear();
+  TraceRay({3, 3}, {3, -4}, [&](int x, int y) { cells.emplace_back(x, y); });
+  ASSERT_EQ(cells.size(), 7u);
+  EXPECT_EQ(cells.back(), Eigen::Vector2i(3, -3));
+}
+
+TEST(ScanInserter, MarksWallsOccupiedAndTheRoomFree) {
+  OccupancyGrid grid(0.05);
+  const ScanInserter inserter;
+  const auto walls = testing::RoomWalls();
+  const LaserScan scan = testing::RenderScan(Pose2D(0, 0, 0), walls, Pose2D());
+  inserter.Insert(ToScanPoints(scan, {}), Pose2D(0, 0, 0), grid);
+  // Straight ahead the beam hits the wall at x = 5 (or the pillar at x = 1 is off-axis).
+  const Eigen::Vector2i wall = grid.WorldToCell({5.0 - 1e-6, 0.0});  // the endpoint rounds to either side
+  EXPECT_GT(std::max(grid.Probability(wall.x(), wall.y()), grid.Probability(wall.x() + 1, wall.y())), 0.6f);
+  const Eigen::Vector2i free = grid.WorldToCell({3.0, 0.0});
+  EXPECT_LT(grid.Probability(free.x(), free.y()), 0.45f);
+  const Eigen::Vector2i behind = grid.WorldToCell({-3.0, 0.0});  // behind the 180 degree sensor
+  EXPECT_FALSE(grid.IsKnown(behind.x(), behind.y()));
+}
+
+}  // namespace
+}  // namespace pslam

@@ -1,0 +1,58 @@
+#include "pslam/matching/scan_matcher.hpp"
+
+#include <gtest/gtest.h>
+
+#include "pslam/grid/scan_inserter.hpp"
+#include "pslam/matching/scan_likelihood.hpp"
+#include "testing/synthetic_world.hpp"
+
+namespace pslam {
+namespace {
+
+class ScanMatcherTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const ScanInserter inserter;
+    // Map the room from a few poses so the walls are well established.
+    for (const Pose2D& p : {Pose2D(0, 0, 0), Pose2D(-2, -1, 2.5), Pose2D(0.5, -2, -1.2), Pose2D(-1, 2, 1.0)}) {
+      inserter.Insert(ToScanPoints(testing::RenderScan(p, walls_, p), {}), p, grid_);
+    }
+  }
+  std::vector<testing::Segment> walls_ = testing::RoomWalls();
+  OccupancyGrid grid_{0.05};
+};
+
+TEST_F(ScanMatcherTest, RecoversAKnownOffset) {
+  const Pose2D truth(0.4, -0.3, 0.3);
+  const ScanPoints points = ToScanPoints(testing::RenderScan(truth, walls_, truth), {});
+  const Pose2D start = truth * Pose2D(0.12, -0.08, 0.06);  // 14 cm and 3.4 degrees off
+  const ScanMatchResult result = MatchScan(grid_, points.hits, start, ScanMatchOptions{.coarsest_level = 2});
+  ASSERT_TRUE(result.converged);
+  EXPECT_NEAR(result.pose.x, truth.x, 0.02);
+  EXPECT_NEAR(result.pose.y, truth.y, 0.02);
+  EXPECT_NEAR(NormalizeAngle(result.pose.theta - truth.theta), 0.0, 0.01);
+  EXPECT_GT(result.score, ScoreScan(grid_, points.hits, start));
+}
+
+TEST_F(ScanMatcherTest, FailsCleanlyOnAnEmptyMap) {
+  const OccupancyGrid empty(0.05);
+  const ScanPoints points = ToScanPoints(testing::RenderScan(Pose2D(), walls_, Pose2D()), {});
+  const Pose2D start(1, 2, 0.3);
+  const ScanMatchResult result = MatchScan(empty, points.hits, start, {});
+  EXPECT_FALSE(result.converged);
+  EXPECT_DOUBLE_EQ(result.pose.x, start.x);  // an untrusted match leaves the guess alone
+}
+
+TEST_F(ScanMatcherTest, LikelihoodPrefersTheTruePose) {
+  const Pose2D truth(-0.5, 0.8, -0.4);
+  const ScanPoints points = ToScanPoints(testing::RenderScan(truth, walls_, truth), {});
+  const LikelihoodOptions options;
+  const ScanLikelihood at_truth = ComputeScanLikelihood(grid_, points.hits, truth, options);
+  const ScanLikelihood shifted = ComputeScanLikelihood(grid_, points.hits, truth * Pose2D(0.1, 0, 0.05), options);
+  EXPECT_GT(at_truth.log_likelihood, shifted.log_likelihood);
+  EXPECT_GT(at_truth.explored_points, 50);
+  EXPECT_LE(at_truth.unexplored_points, 3);
+}
+
+}  // namespace
+}  // namespace pslam
