@@ -202,6 +202,10 @@ TEST_F(MapIoTest, BadInputsNameTheFile) {
   expect_error("image: short.pgm\nresolution: 0.05\n" + origin, "size mismatch", dir_ / "short.pgm");
   WriteText(dir_ / "short2.pgm", "P2\n2 2\n255\n1 2 3\n");
   expect_error("image: short2.pgm\nresolution: 0.05\n" + origin, "size mismatch", dir_ / "short2.pgm");
+  WriteText(dir_ / "huge.pgm", "P5\n1048576 1048576\n255\nabc");
+  expect_error("image: huge.pgm\nresolution: 0.05\n" + origin, "size mismatch", dir_ / "huge.pgm");
+  WriteText(dir_ / "empty.png", "");
+  expect_error("image: empty.png\nresolution: 0.05\n" + origin, "empty", dir_ / "empty.png");
   WriteText(dir_ / "range.pgm", "P2\n1 1\n100\n101\n");
   expect_error("image: range.pgm\nresolution: 0.05\n" + origin, "bad PGM pixel", dir_ / "range.pgm");
 

@@ -186,7 +186,7 @@ class Fields {
   }
   void ExpectSize(std::size_t expected, std::string_view layout) const {
     if (tok_.size() == expected) return;
-    Fail(std::string(layout) + " needs " + std::to_string(expected) + " tokens, got " +
+    Fail("needs " + std::to_string(expected) + " tokens (" + std::string(layout) + "), got " +
          std::to_string(tok_.size()) + (tok_.size() < expected ? " (truncated line?)" : ""));
   }
   Pose2D PoseAt(std::size_t i, const char* which) const {
@@ -255,6 +255,13 @@ double OldFormatStartAngle(std::size_t n, double resolution) {
   return -span / 2.0;
 }
 
+// Only lasers 1 (front) and 2 (rear) have offset parameters.
+std::optional<double> OffsetParam(Mount mount, const LogParams& params) {
+  if (mount == Mount::kFront) return params.front_offset;
+  if (mount == Mount::kRear) return params.rear_offset;
+  return std::nullopt;
+}
+
 // Mount of the laser on the robot: heading from the mount (rear lasers face backwards), position
 // from PARAM when given, else from laser pose vs robot pose in the line (protocol §8).
 Pose2D MountOffset(Mount mount, std::optional<double> param_x, const Pose2D* laser_pose, const Pose2D* robot_pose) {
@@ -284,8 +291,7 @@ void ReadRanges(const Fields& f, std::size_t first, std::size_t n, LaserScan& sc
 
 // Shared head of ROBOTLASERk and RAWLASERk: laser_type start_angle fov resolution max_range accuracy
 // remission_mode n r1..rn m v1..vm. Returns the index of the first token after the remissions.
-std::size_t ReadNewLaserHead(const Fields& f, std::size_t fixed_tokens, std::string_view layout,
-                                    LaserScan& s, double& max_range) {
+std::size_t ReadNewLaserHead(const Fields& f, std::size_t fixed_tokens, LaserScan& s, double& max_range) {
   if (f.size() < 9) f.Fail("truncated line: " + std::to_string(f.size()) + " tokens");
   f.Number(1, "laser_type");
   const double start = f.Finite(2, "start_angle"), fov = f.Finite(3, "fov");
@@ -296,7 +302,7 @@ std::size_t ReadNewLaserHead(const Fields& f, std::size_t fixed_tokens, std::str
   const std::size_t n = f.Count(8, "beam count");
   if (f.size() < n + 10) f.Fail("n=" + std::to_string(n) + " but only " + std::to_string(f.size()) + " tokens (truncated line?)");
   const std::size_t m = f.Count(9 + n, "remission count");
-  f.ExpectSize(fixed_tokens + n + m, layout);
+  f.ExpectSize(fixed_tokens + n + m, std::to_string(fixed_tokens) + "+n+m, n=" + std::to_string(n) + " m=" + std::to_string(m));
   ReadRanges(f, 9, n, s);
   for (std::size_t i = 0; i < m; ++i) f.Number(10 + n + i, "remission");
   s.angle_min = start;
@@ -438,7 +444,7 @@ void CarmenReader::Impl::Corrupt(const std::string& what) {
 
 // ODOM x y theta tv rv accel <trailer>
 OdometryReading CarmenReader::Impl::ParseOdom(const Fields& f) const {
-  f.ExpectSize(10, "ODOM x y theta tv rv accel ipc_timestamp hostname logger_timestamp");
+  f.ExpectSize(10, "x y theta tv rv accel ipc_timestamp hostname logger_timestamp");
   OdometryReading odom;
   odom.pose = f.PoseAt(1, "pose");
   odom.translational_velocity = f.Number(4, "tv");
@@ -462,7 +468,7 @@ ParsedScan CarmenReader::Impl::ParseOldLaser(const Fields& f, Mount mount) const
   s.angle_increment = OldFormatResolution(n, rear ? params.rear_resolution : params.front_resolution);
   s.angle_min = OldFormatStartAngle(n, s.angle_increment);
   s.max_range = MaxRange(std::nullopt, mount, params, options.default_max_range);
-  const std::optional<double> param_x = rear ? params.rear_offset : params.front_offset;
+  const std::optional<double> param_x = OffsetParam(mount, params);
   if (with_poses) {
     const Pose2D laser = f.PoseAt(2 + n, "laser pose"), robot = f.PoseAt(5 + n, "robot pose");
     s.sensor_offset = MountOffset(mount, param_x, &laser, &robot);
@@ -480,12 +486,10 @@ ParsedScan CarmenReader::Impl::ParseRobotLaser(const Fields& f, Mount mount) con
   ParsedScan p;
   LaserScan& s = p.scan;
   double max_range = 0.0;
-  const std::size_t i = ReadNewLaserHead(f, 24, "ROBOTLASER with n beams and m remissions (24+n+m)", s, max_range);
+  const std::size_t i = ReadNewLaserHead(f, 24, s, max_range);
   const Pose2D laser = f.PoseAt(i, "laser pose"), robot = f.PoseAt(i + 3, "robot pose");
   for (std::size_t j = i + 6; j < i + 11; ++j) f.Number(j, "velocity/safety field");
-  const std::optional<double> param_x = mount == Mount::kRear    ? params.rear_offset
-                                        : mount == Mount::kFront ? params.front_offset
-                                                                 : std::nullopt;
+  const std::optional<double> param_x = OffsetParam(mount, params);
   s.sensor_offset = MountOffset(mount, param_x, &laser, &robot);
   s.odometry = robot;
   s.max_range = MaxRange(max_range, mount, params, options.default_max_range);
@@ -499,10 +503,8 @@ ParsedScan CarmenReader::Impl::ParseRawLaser(const Fields& f, Mount mount) const
   ParsedScan p;
   LaserScan& s = p.scan;
   double max_range = 0.0;
-  ReadNewLaserHead(f, 13, "RAWLASER with n beams and m remissions (13+n+m)", s, max_range);
-  const std::optional<double> param_x = mount == Mount::kRear    ? params.rear_offset
-                                        : mount == Mount::kFront ? params.front_offset
-                                                                 : std::nullopt;
+  ReadNewLaserHead(f, 13, s, max_range);
+  const std::optional<double> param_x = OffsetParam(mount, params);
   s.sensor_offset = MountOffset(mount, param_x, nullptr, nullptr);
   s.max_range = MaxRange(max_range, mount, params, options.default_max_range);
   ReadTrailer(f, s.timestamp, &s.timestamp_text);

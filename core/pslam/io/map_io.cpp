@@ -258,6 +258,11 @@ GrayImage DecodePgm(const std::string& path, const std::string& bytes) {
   image.height = PgmInt(path, bytes, pos, "height", 1, 1 << 20);
   const int maxval = PgmInt(path, bytes, pos, "maxval", 1, 65535);
   const std::size_t count = static_cast<std::size_t>(image.width) * image.height;
+  // Every pixel takes at least one byte: check before allocating for a corrupt header.
+  if (count > bytes.size() - pos) {
+    Fail(path, "size mismatch: header says " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                   " but the file has only " + std::to_string(bytes.size()) + " bytes");
+  }
   image.brightness.resize(count);
   if (binary) {
     ++pos;  // exactly one whitespace byte separates the header from the raster
@@ -287,8 +292,14 @@ GrayImage DecodePgm(const std::string& path, const std::string& bytes) {
 // Anything else (PNG, BMP, ...) through OpenCV. Colour pixels use the mean of their colour
 // channels, and alpha marks transparency, as map_server does.
 GrayImage DecodeWithOpenCv(const std::string& path, const std::string& bytes) {
+  if (bytes.empty()) Fail(path, "map image is empty");
   const cv::Mat raw(1, static_cast<int>(bytes.size()), CV_8UC1, const_cast<char*>(bytes.data()));
-  cv::Mat mat = cv::imdecode(raw, cv::IMREAD_UNCHANGED);
+  cv::Mat mat;
+  try {
+    mat = cv::imdecode(raw, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception& e) {  // corrupt data can throw instead of returning empty
+    Fail(path, std::string("unreadable map image: ") + e.what());
+  }
   if (mat.empty()) Fail(path, "unreadable map image (not a PGM and not decodable by OpenCV)");
   if (mat.depth() != CV_8U) Fail(path, "map image must have 8-bit channels");
   const int channels = mat.channels();

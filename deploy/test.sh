@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Sets up a fresh Debian machine and runs every test of the project.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+deploy/bootstrap.sh --web
+deploy/build.sh
+ctest --test-dir build --output-on-failure --timeout 600
