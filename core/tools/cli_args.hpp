@@ -47,6 +47,16 @@ class CliArgs {
     error_ += "not a number: " + key + " " + *v + "\n";
     return fallback;
   }
+  // Every value of a repeatable option, in order.
+  std::vector<std::string> Values(const std::string& key) {
+    known_.insert(key);
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i + 1 < args_.size(); ++i) {
+      if (args_[i] == key) out.push_back(args_[++i]);
+    }
+    return out;
+  }
+  void AddError(const std::string& message) { error_ += message + "\n"; }
   bool Flag(const std::string& key) {
     flags_.insert(key);
     for (const auto& a : args_) {

@@ -22,10 +22,11 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: pslam run --log FILE [--particles N] [--seed S] [--threads T] [--trajectory OUT.txt]\n"
-    "                 [--map OUT_PREFIX] [--strict] [--quiet]\n"
+    "                 [--map OUT_PREFIX] [--strict] [--quiet] [--set NAME=VALUE ...]\n"
     "  Maps a CARMEN log. --map writes OUT_PREFIX.pgm, .yaml and .png; --trajectory writes one line\n"
     "  'timestamp x y theta' per laser scan of the log. --strict stops at the first corrupt line\n"
-    "  (default: skip and count it).\n";
+    "  (default: skip and count it). --set tunes any filter option, e.g. --set linear_update=0.5;\n"
+    "  'pslam run --help' lists them.\n";
 
 double PeakRssMiB() {
   rusage usage{};
@@ -69,6 +70,17 @@ int RunRunCommand(const std::vector<std::string>& args) {
   const auto map_prefix = cli.Value("--map");
   const bool strict = cli.Flag("--strict");
   const bool quiet = cli.Flag("--quiet");
+  for (const std::string& assignment : cli.Values("--set")) {
+    const auto eq = assignment.find('=');
+    const std::string error = eq == std::string::npos ? "--set needs NAME=VALUE, got '" + assignment + "'"
+                                                      : SetRbpfOption(options, assignment.substr(0, eq), assignment.substr(eq + 1));
+    if (!error.empty()) cli.AddError(error);
+  }
+  if (cli.Flag("--help")) {
+    std::cout << kUsage << "filter options (--set):\n";
+    for (const auto& name : RbpfOptionNames()) std::cout << "  " << name << "\n";
+    return 0;
+  }
   if (!cli.ok() || !log_path || options.particles < 1) {
     std::cerr << cli.error() << kUsage;
     return 2;

@@ -29,7 +29,7 @@ void Rbpf::SelectBest() {
 
 void Rbpf::Initialize(const LaserScan& scan) {
   const ScanPoints points = ToScanPoints(scan, options_.points);
-  Particle first{options_.initial_pose, 0.0, OccupancyGrid(options_.resolution),
+  Particle first{options_.initial_pose, 0.0, OccupancyGrid(options_.resolution), OccupancyGrid(options_.resolution),
                  std::make_shared<TrajectoryNode>(TrajectoryNode{options_.initial_pose, 0, nullptr})};
   inserter_.Insert(points, first.pose, first.map);
   particles_.assign(static_cast<std::size_t>(std::max(1, options_.particles)), first);
@@ -63,7 +63,7 @@ RbpfStep Rbpf::AddScan(const LaserScan& scan) {
   const bool moved_enough = std::hypot(motion.x, motion.y) >= options_.linear_update ||
                             std::abs(motion.theta) >= options_.angular_update;
   if (moved_enough) {
-    UpdateParticles(motion, points.hits);
+    step.prediction = UpdateParticles(motion, points.hits);
     const std::vector<double> weights = Weights();
     step.neff = EffectiveSampleSize(weights);
     if (step.neff < options_.resample_threshold * static_cast<double>(particles_.size())) {
@@ -79,8 +79,10 @@ RbpfStep Rbpf::AddScan(const LaserScan& scan) {
       step.resampled = true;
       ++stats_.resamplings;
     }
-    pool_.ParallelFor(static_cast<int>(particles_.size()),
-                      [&](int i) { inserter_.Insert(points, particles_[static_cast<std::size_t>(i)].pose, particles_[static_cast<std::size_t>(i)].map); });
+    pool_.ParallelFor(static_cast<int>(particles_.size()), [&](int i) {
+      Particle& p = particles_[static_cast<std::size_t>(i)];
+      inserter_.Insert(points, p.pose, p.map, has_hypotheses_ ? &p.hypothesis : nullptr);
+    });
     SelectBest();
     odometry_at_update_ = scan.odometry;
     last_pose_ = best().pose;
@@ -95,19 +97,59 @@ RbpfStep Rbpf::AddScan(const LaserScan& scan) {
   return step;
 }
 
-void Rbpf::UpdateParticles(const Pose2D& motion, const std::vector<Eigen::Vector2f>& hits) {
+PredictionUse Rbpf::UpdateParticles(const Pose2D& motion, const std::vector<Eigen::Vector2f>& hits) {
   const int scan_index = static_cast<int>(tracked_.size()) - 1;
   const auto update = static_cast<std::uint64_t>(stats_.updates);
+  const bool with_hypotheses = has_hypotheses_ && options_.use_predictions;
+  std::vector<ScanLikelihood> likelihoods(particles_.size());
   pool_.ParallelFor(static_cast<int>(particles_.size()), [&](int i) {
     Particle& p = particles_[static_cast<std::size_t>(i)];
     auto rng = MakeStream(options_.seed, update, static_cast<std::uint64_t>(i));
     p.pose = p.pose * SampleMotion(motion, options_.motion, rng);
     const ScanMatchResult match = MatchScan(p.map, hits, p.pose, options_.particle_match);
     if (match.converged) p.pose = match.pose;
-    const ScanLikelihood likelihood = ComputeScanLikelihood(p.map, hits, p.pose, options_.likelihood);
-    p.log_weight += likelihood.log_likelihood / options_.likelihood_temperature;
+    likelihoods[static_cast<std::size_t>(i)] =
+        ComputeScanLikelihood(p.map, hits, p.pose, options_.likelihood, with_hypotheses ? &p.hypothesis : nullptr);
     p.node = std::make_shared<TrajectoryNode>(TrajectoryNode{p.pose, scan_index, p.node});
   });
+
+  // Recovery (section IV-C): the hypotheses weigh in only where some particle's hit ratio shows
+  // that they agree with what the robot sees.
+  PredictionUse use;
+  int with_points = 0;
+  for (const ScanLikelihood& l : likelihoods) {
+    if (l.hypothesis_points < options_.min_hypothesis_points) continue;
+    ++with_points;
+    use.best_hit_ratio = std::max(use.best_hit_ratio, l.hit_ratio());
+    use.mean_hit_ratio += l.hit_ratio();
+  }
+  if (with_points > 0) {
+    use.mean_hit_ratio /= with_points;
+    use.used = !options_.recovery || use.best_hit_ratio >= options_.hit_ratio_threshold;
+    ++stats_.updates_with_hypothesis_points;
+    if (use.used) ++stats_.updates_using_predictions;
+  }
+  use.hypothesis_points = likelihoods[static_cast<std::size_t>(best_)].hypothesis_points;
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    particles_[i].log_weight += likelihoods[i].Total(use.used) / options_.likelihood_temperature;
+  }
+  return use;
+}
+
+void Rbpf::AddHypothesis(const std::vector<PredictedCell>& cells) {
+  if (cells.empty() || particles_.empty()) return;
+  constexpr int kOccupied = 3000, kFree = -2000;  // milli log-odds: p = 0.95 and 0.12
+  const Pose2D best_inverse = best().pose.inverse();
+  pool_.ParallelFor(static_cast<int>(particles_.size()), [&](int i) {
+    Particle& p = particles_[static_cast<std::size_t>(i)];
+    const Pose2D to_particle = p.pose * best_inverse;
+    for (const PredictedCell& c : cells) {
+      const Eigen::Vector2i cell = p.map.WorldToCell(to_particle * p.map.CellCenter(c.cell));
+      if (p.map.IsKnown(cell.x(), cell.y())) continue;
+      p.hypothesis.MutableAt(cell.x(), cell.y()) = static_cast<OccupancyGrid::Cell>(c.occupied ? kOccupied : kFree);
+    }
+  });
+  has_hypotheses_ = true;
 }
 
 std::vector<Pose2D> Rbpf::Trajectory() const {

@@ -26,13 +26,29 @@ struct Particle {
   Pose2D pose;                       // at the last update
   double log_weight = 0.0;           // since the last resampling
   OccupancyGrid map;
+  OccupancyGrid hypothesis;          // predicted cells not yet observed, in this particle's frame
   std::shared_ptr<const TrajectoryNode> node;
+};
+
+// A predicted cell in the best particle's map frame.
+struct PredictedCell {
+  Eigen::Vector2i cell;
+  bool occupied = false;
+};
+
+// How the hypotheses took part in one filter update.
+struct PredictionUse {
+  bool used = false;                 // S2 entered the weights
+  int hypothesis_points = 0;         // |z^u| of the best particle
+  double best_hit_ratio = 0.0;       // the highest hit ratio (eq. 23) over the particles
+  double mean_hit_ratio = 0.0;       // over particles that had endpoints in hypotheses
 };
 
 struct RbpfStep {
   bool updated = false;              // the particles were moved, weighed and the scan inserted
   bool resampled = false;
   double neff = 0.0;                 // effective sample size after the update
+  PredictionUse prediction;
   int best = 0;                      // index of the best particle
   Pose2D pose;                       // best estimate of the robot pose at this scan
 };
@@ -42,6 +58,8 @@ struct RbpfStats {
   int updates = 0;
   int resamplings = 0;
   double neff = 0.0;
+  int updates_with_hypothesis_points = 0;  // updates where some endpoint fell in a hypothesis
+  int updates_using_predictions = 0;       // ... and the hypotheses entered the weights
 };
 
 class Rbpf {
@@ -58,13 +76,18 @@ class Rbpf {
   // Normalised weights of the particles.
   std::vector<double> Weights() const;
 
+  // The hypothesis model H of eq. 20: adds predicted cells, given in the best particle's frame, to
+  // every particle's hypothesis map, moved by that particle's pose relative to the best one.
+  // Cells a particle has already observed are left out: hypotheses only cover unexplored space.
+  void AddHypothesis(const std::vector<PredictedCell>& cells);
+
   // The best particle's pose at every scan added so far: its own poses at updates, and in between
   // the tracked motion, bent so that it meets the next update exactly.
   std::vector<Pose2D> Trajectory() const;
 
  private:
   void Initialize(const LaserScan& scan);
-  void UpdateParticles(const Pose2D& motion, const std::vector<Eigen::Vector2f>& hits);
+  PredictionUse UpdateParticles(const Pose2D& motion, const std::vector<Eigen::Vector2f>& hits);
   void SelectBest();
 
   RbpfOptions options_;
@@ -76,6 +99,7 @@ class Rbpf {
   Pose2D odometry_at_update_;
   std::vector<Pose2D> tracked_;      // per scan: pose relative to the tracked particle's last update
   Pose2D last_pose_;
+  bool has_hypotheses_ = false;
 };
 
 }  // namespace pslam

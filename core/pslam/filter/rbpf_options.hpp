@@ -1,6 +1,8 @@
 #pragma once
 // Every tunable of the particle filter, with its default, in one place.
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include "pslam/filter/motion_model.hpp"
 #include "pslam/grid/scan_inserter.hpp"
@@ -25,6 +27,14 @@ struct RbpfOptions {
   double likelihood_temperature = 6.0;
   int threads = 0;                    // worker threads for particle updates; 0: all cores
 
+  // P-SLAM (paper eq. 21-23): weigh endpoints in unexplored space against the hypotheses.
+  bool use_predictions = true;
+  // Recovery: use the hypotheses in an update only if some particle's hit ratio (eq. 23) reaches
+  // the threshold; otherwise they contradict what the robot sees and would mislead the weights.
+  bool recovery = true;
+  double hit_ratio_threshold = 0.5;
+  int min_hypothesis_points = 5;      // fewer endpoints in hypotheses say too little to weigh by
+
   ScanPointsOptions points{.max_usable_range = 20.0, .no_return_free_range = 0.0, .min_point_spacing = 0.03};
   ScanInsertOptions insert;
   ScanMatchOptions tracking_match{.coarsest_level = 2};
@@ -35,5 +45,17 @@ struct RbpfOptions {
                      .translation_per_translation = 0.03,
                      .translation_per_rotation = 0.01};
 };
+
+}  // namespace pslam
+
+namespace pslam {
+
+// Sets one option by its dotted name (e.g. "motion.translation_per_translation", "linear_update")
+// from text. Returns an empty string on success, or what is wrong: unknown names are rejected so
+// that a typo never silently falls back to a default.
+std::string SetRbpfOption(RbpfOptions& options, const std::string& name, const std::string& value);
+
+// Names of every option SetRbpfOption accepts, for help texts.
+std::vector<std::string> RbpfOptionNames();
 
 }  // namespace pslam

@@ -71,6 +71,11 @@ class OccupancyGrid {
     c = static_cast<Cell>(std::clamp(base + delta, lo, hi));
   }
 
+  // Returns a cell to unknown; a no-op (and no tile copy) when it is unknown already.
+  void Forget(int cx, int cy) {
+    if (IsKnown(cx, cy)) MutableAt(cx, cy) = kUnknown;
+  }
+
   // Bounds of all cells that have been observed at least once.
   CellBox KnownBounds() const;
   // Tile-level access for exporters and change tracking: tile coordinates are cell >> kTileBits.

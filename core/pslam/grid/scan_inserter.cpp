@@ -15,9 +15,13 @@ ScanInserter::ScanInserter(const ScanInsertOptions& o)
       lo_(MilliLogOdds(o.min_probability)),
       hi_(MilliLogOdds(o.max_probability)) {}
 
-void ScanInserter::Insert(const ScanPoints& points, const Pose2D& pose, OccupancyGrid& grid) const {
+void ScanInserter::Insert(const ScanPoints& points, const Pose2D& pose, OccupancyGrid& grid,
+                          OccupancyGrid* forget) const {
   const Eigen::Vector2i origin = grid.WorldToCell(pose * points.origin.cast<double>());
-  auto miss = [&](int x, int y) { grid.AddLogOdds(x, y, miss_, lo_, hi_); };
+  auto miss = [&](int x, int y) {
+    grid.AddLogOdds(x, y, miss_, lo_, hi_);
+    if (forget) forget->Forget(x, y);
+  };
   for (const auto& p : points.free_ends) {
     const Eigen::Vector2i end = grid.WorldToCell(pose * p.cast<double>());
     TraceRay(origin, end, miss);
@@ -27,6 +31,7 @@ void ScanInserter::Insert(const ScanPoints& points, const Pose2D& pose, Occupanc
   for (const auto& p : points.hits) {
     const Eigen::Vector2i end = grid.WorldToCell(pose * p.cast<double>());
     grid.AddLogOdds(end.x(), end.y(), hit_, lo_, hi_);
+    if (forget) forget->Forget(end.x(), end.y());
   }
 }
 

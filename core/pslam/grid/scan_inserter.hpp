@@ -18,7 +18,10 @@ class ScanInserter {
  public:
   explicit ScanInserter(const ScanInsertOptions& options = {});
   // Misses first, then hits, so that a beam grazing a wall does not erase another beam's hit.
-  void Insert(const ScanPoints& points, const Pose2D& robot_pose, OccupancyGrid& grid) const;
+  // Every cell the scan observes is also forgotten in `forget` when given: that is how predicted
+  // cells give way to observed ones (the hypothesis validation V of the paper's eq. 20).
+  void Insert(const ScanPoints& points, const Pose2D& robot_pose, OccupancyGrid& grid,
+              OccupancyGrid* forget = nullptr) const;
 
  private:
   int hit_, miss_, lo_, hi_;  // milli log-odds

@@ -1,8 +1,12 @@
 #pragma once
 // Beam-endpoint likelihood (a likelihood field computed on the fly): each endpoint scores a
-// Gaussian of its distance to the nearest occupied cell within a small window. Endpoints that land
-// in unknown space, with no wall near, are counted separately: that is what splits an observation
-// into its explored part z^e and unexplored part z^u (paper eq. 13).
+// Gaussian of its distance to the nearest occupied cell within a small window.
+//
+// P-SLAM splits the observation (paper eq. 13): z^e, the endpoints on or near the explored map, and
+// z^u, the endpoints in unexplored space that a hypothesis covers. z^e is scored against the map
+// (S1 of eq. 22), z^u against the hypothesis map with the same sensor model (S2). Endpoints in
+// unexplored space with no hypothesis score like an endpoint far from any wall, so that a pose is
+// never rewarded for pushing its endpoints out of the map.
 #include <Eigen/Core>
 #include <vector>
 
@@ -19,12 +23,26 @@ struct LikelihoodOptions {
 };
 
 struct ScanLikelihood {
-  double log_likelihood = 0.0;     // over all scored endpoints
-  int explored_points = 0;         // endpoints on or near observed cells
-  int unexplored_points = 0;       // endpoints in unknown space with no wall near
+  double explored_log_likelihood = 0.0;    // S1: over z^e
+  double hypothesis_log_likelihood = 0.0;  // S2: over z^u, against the hypothesis map
+  double miss_log_likelihood = 0.0;        // the score of one endpoint far from any wall
+  int explored_points = 0;                 // |z^e|
+  int unexplored_points = 0;               // endpoints in unexplored space, z^u included
+  int hypothesis_points = 0;               // |z^u|: unexplored endpoints inside a hypothesis
+  int hypothesis_hits = 0;                 // |h ∩ z^u|: of those, the ones a predicted wall explains
+
+  // Hit ratio of eq. 23; 0 when no endpoint fell inside a hypothesis.
+  double hit_ratio() const { return hypothesis_points ? static_cast<double>(hypothesis_hits) / hypothesis_points : 0.0; }
+  // log S1 (+ log S2 when the prediction is used); every other endpoint scores as a miss.
+  double Total(bool use_hypothesis) const {
+    const int scored_as_miss = unexplored_points - (use_hypothesis ? hypothesis_points : 0);
+    return explored_log_likelihood + (use_hypothesis ? hypothesis_log_likelihood : 0.0) +
+           scored_as_miss * miss_log_likelihood;
+  }
 };
 
 ScanLikelihood ComputeScanLikelihood(const OccupancyGrid& grid, const std::vector<Eigen::Vector2f>& points_in_robot,
-                                     const Pose2D& pose, const LikelihoodOptions& options);
+                                     const Pose2D& pose, const LikelihoodOptions& options,
+                                     const OccupancyGrid* hypothesis = nullptr);
 
 }  // namespace pslam

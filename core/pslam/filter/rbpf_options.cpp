@@ -1,0 +1,90 @@
+#include "pslam/filter/rbpf_options.hpp"
+
+#include <charconv>
+#include <functional>
+#include <map>
+
+namespace pslam {
+namespace {
+
+using Setter = std::function<std::string(RbpfOptions&, const std::string&)>;
+
+template <typename T>
+std::string ParseNumber(const std::string& text, T& out) {
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, out);
+  if (ec != std::errc() || ptr != end) return "not a number: '" + text + "'";
+  return "";
+}
+
+template <typename T>
+Setter Field(T RbpfOptions::*member) {
+  return [member](RbpfOptions& o, const std::string& v) { return ParseNumber(v, o.*member); };
+}
+template <typename Group, typename T>
+Setter Nested(Group RbpfOptions::*group, T Group::*member) {
+  return [group, member](RbpfOptions& o, const std::string& v) { return ParseNumber(v, (o.*group).*member); };
+}
+Setter Flag(bool RbpfOptions::*member) {
+  return [member](RbpfOptions& o, const std::string& v) -> std::string {
+    if (v == "true" || v == "1") o.*member = true;
+    else if (v == "false" || v == "0") o.*member = false;
+    else return "not a boolean: '" + v + "'";
+    return "";
+  };
+}
+
+const std::map<std::string, Setter>& Setters() {
+  static const std::map<std::string, Setter> setters = {
+      {"particles", Field(&RbpfOptions::particles)},
+      {"seed", Field(&RbpfOptions::seed)},
+      {"resolution", Field(&RbpfOptions::resolution)},
+      {"linear_update", Field(&RbpfOptions::linear_update)},
+      {"angular_update", Field(&RbpfOptions::angular_update)},
+      {"resample_threshold", Field(&RbpfOptions::resample_threshold)},
+      {"likelihood_temperature", Field(&RbpfOptions::likelihood_temperature)},
+      {"threads", Field(&RbpfOptions::threads)},
+      {"use_predictions", Flag(&RbpfOptions::use_predictions)},
+      {"recovery", Flag(&RbpfOptions::recovery)},
+      {"hit_ratio_threshold", Field(&RbpfOptions::hit_ratio_threshold)},
+      {"min_hypothesis_points", Field(&RbpfOptions::min_hypothesis_points)},
+      {"points.max_usable_range", Nested(&RbpfOptions::points, &ScanPointsOptions::max_usable_range)},
+      {"points.no_return_free_range", Nested(&RbpfOptions::points, &ScanPointsOptions::no_return_free_range)},
+      {"points.min_point_spacing", Nested(&RbpfOptions::points, &ScanPointsOptions::min_point_spacing)},
+      {"insert.hit_probability", Nested(&RbpfOptions::insert, &ScanInsertOptions::hit_probability)},
+      {"insert.miss_probability", Nested(&RbpfOptions::insert, &ScanInsertOptions::miss_probability)},
+      {"insert.min_probability", Nested(&RbpfOptions::insert, &ScanInsertOptions::min_probability)},
+      {"insert.max_probability", Nested(&RbpfOptions::insert, &ScanInsertOptions::max_probability)},
+      {"tracking_match.coarsest_level", Nested(&RbpfOptions::tracking_match, &ScanMatchOptions::coarsest_level)},
+      {"tracking_match.iterations_per_level", Nested(&RbpfOptions::tracking_match, &ScanMatchOptions::iterations_per_level)},
+      {"tracking_match.min_score", Nested(&RbpfOptions::tracking_match, &ScanMatchOptions::min_score)},
+      {"particle_match.coarsest_level", Nested(&RbpfOptions::particle_match, &ScanMatchOptions::coarsest_level)},
+      {"particle_match.iterations_per_level", Nested(&RbpfOptions::particle_match, &ScanMatchOptions::iterations_per_level)},
+      {"particle_match.min_score", Nested(&RbpfOptions::particle_match, &ScanMatchOptions::min_score)},
+      {"likelihood.sigma", Nested(&RbpfOptions::likelihood, &LikelihoodOptions::sigma)},
+      {"likelihood.window_cells", Nested(&RbpfOptions::likelihood, &LikelihoodOptions::window_cells)},
+      {"likelihood.point_step", Nested(&RbpfOptions::likelihood, &LikelihoodOptions::point_step)},
+      {"motion.rotation_per_rotation", Nested(&RbpfOptions::motion, &MotionNoise::rotation_per_rotation)},
+      {"motion.rotation_per_translation", Nested(&RbpfOptions::motion, &MotionNoise::rotation_per_translation)},
+      {"motion.translation_per_translation", Nested(&RbpfOptions::motion, &MotionNoise::translation_per_translation)},
+      {"motion.translation_per_rotation", Nested(&RbpfOptions::motion, &MotionNoise::translation_per_rotation)},
+  };
+  return setters;
+}
+
+}  // namespace
+
+std::string SetRbpfOption(RbpfOptions& options, const std::string& name, const std::string& value) {
+  const auto it = Setters().find(name);
+  if (it == Setters().end()) return "unknown option '" + name + "'";
+  const std::string error = it->second(options, value);
+  return error.empty() ? "" : name + ": " + error;
+}
+
+std::vector<std::string> RbpfOptionNames() {
+  std::vector<std::string> names;
+  for (const auto& [name, setter] : Setters()) names.push_back(name);
+  return names;
+}
+
+}  // namespace pslam
