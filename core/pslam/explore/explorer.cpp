@@ -1,0 +1,132 @@
+#include "pslam/explore/explorer.hpp"
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace pslam {
+namespace {
+
+std::uint64_t Key(const Eigen::Vector2i& c) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.x())) << 32) | static_cast<std::uint32_t>(c.y());
+}
+
+}  // namespace
+
+std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierCluster& cluster, double radius,
+                                      const CellClassOptions& classes, const CoveredPredicate& covered) {
+  // Multi-source Dijkstra (8-connected step lengths) from the cluster's cells into the unknown
+  // region behind them, out to 'radius': the space the robot would reveal by going there. Bounded
+  // by the number of unknown cells within the radius.
+  const double max_cells = radius / grid.resolution();
+  std::unordered_map<std::uint64_t, double> distance;
+  using Entry = std::pair<double, Eigen::Vector2i>;
+  const auto later = [](const Entry& a, const Entry& b) { return a.first > b.first; };
+  std::priority_queue<Entry, std::vector<Entry>, decltype(later)> open(later);
+  for (const auto& c : cluster.cells) open.push({0.0, c});
+  std::unordered_set<std::uint64_t> sources;
+  for (const auto& c : cluster.cells) sources.insert(Key(c));
+
+  int unknown = 0, hit = 0;
+  while (!open.empty()) {
+    const auto [d, c] = open.top();
+    open.pop();
+    const bool is_source = sources.count(Key(c)) > 0;
+    if (!is_source) {
+      const auto it = distance.find(Key(c));
+      if (it != distance.end() && it->second < d) continue;  // stale
+      ++unknown;
+      if (covered && covered(c)) ++hit;
+    }
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        if (dx == 0 && dy == 0) continue;
+        const Eigen::Vector2i n = c + Eigen::Vector2i(dx, dy);
+        const double nd = d + ((dx != 0 && dy != 0) ? std::sqrt(2.0) : 1.0);
+        if (nd > max_cells || Classify(grid, n, classes) != CellClass::kUnknown) continue;
+        auto [it, inserted] = distance.try_emplace(Key(n), nd);
+        if (!inserted) {
+          if (it->second <= nd) continue;
+          it->second = nd;
+        }
+        open.push({nd, n});
+      }
+    }
+  }
+  if (unknown == 0) return std::nullopt;
+  return static_cast<double>(hit) / unknown;
+}
+
+ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest& request,
+                                 const ExploreOptions& options) {
+  ExploreDecision decision;
+  const std::vector<FrontierCluster> clusters = FindFrontierClusters(grid, options.frontier);
+  decision.clusters = static_cast<int>(clusters.size());
+  if (clusters.empty()) return decision;
+
+  const PlanningGrid planning(grid, options.planner);
+  const SearchTree tree = GrowSearchTree(planning, request.robot_position);
+  decision.start_blocked = tree.start_blocked();
+  decision.search_truncated = tree.truncated();
+
+  const FrontierCluster* best = nullptr;
+  Eigen::Vector2i best_cell{0, 0};
+  double best_length = std::numeric_limits<double>::infinity();
+  for (const FrontierCluster& cluster : clusters) {
+    // The representative: the reached cell nearest the centroid.
+    const Eigen::Vector2i* representative = nullptr;
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto& c : cluster.cells) {
+      if (!tree.Reached(c)) continue;
+      const double d = (grid.CellCenter(c) - cluster.centroid).squaredNorm();
+      if (d < nearest) {
+        nearest = d;
+        representative = &c;
+      }
+    }
+    if (representative == nullptr) {
+      ++decision.unreachable;
+      continue;
+    }
+    const Eigen::Vector2d position = grid.CellCenter(*representative);
+    if ((position - request.robot_position).norm() < options.min_target_distance) {
+      ++decision.too_close;
+      continue;
+    }
+    bool blacklisted = false;
+    for (const auto& b : request.blacklist) blacklisted = blacklisted || (b - position).norm() < options.blacklist_radius;
+    if (blacklisted) {
+      ++decision.blacklisted;
+      continue;
+    }
+    if (options.mode == ExploreMode::kSkipPredicted && request.covered) {
+      const auto fraction =
+          CoveredFraction(grid, cluster, options.skip_radius, options.frontier.classes, request.covered);
+      if (fraction && *fraction >= options.skip_covered_fraction) {
+        ++decision.skipped;
+        continue;
+      }
+    }
+    const double length = tree.Length(*representative);
+    if (length < best_length) {
+      best_length = length;
+      best = &cluster;
+      best_cell = *representative;
+    }
+  }
+  if (best == nullptr) return decision;
+
+  ExploreTarget target;
+  target.cluster = *best;
+  target.cell = best_cell;
+  target.position = grid.CellCenter(best_cell);
+  target.path_length = best_length;
+  target.path = tree.PathTo(best_cell);
+  decision.target = std::move(target);
+  return decision;
+}
+
+}  // namespace pslam

@@ -1,0 +1,79 @@
+#pragma once
+// Choosing where to explore next: the nearest reachable frontier cluster by path length.
+//
+// Two modes, as in the paper's maze simulation (Sec. V-A1): full coverage visits every frontier,
+// and skip-predicted leaves out frontiers whose unknown surroundings are already covered by
+// accepted structure hypotheses (the caller's predicate), which is how P-SLAM saves exploration
+// time. One Dijkstra search from the robot ranks all clusters at once.
+#include <Eigen/Core>
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include "pslam/explore/frontier.hpp"
+#include "pslam/explore/path_planner.hpp"
+#include "pslam/explore/planning_grid.hpp"
+#include "pslam/grid/occupancy_grid.hpp"
+
+namespace pslam {
+
+enum class ExploreMode { kFullCoverage, kSkipPredicted };
+
+struct ExploreOptions {
+  ExploreMode mode = ExploreMode::kFullCoverage;
+  FrontierOptions frontier;
+  PlannerOptions planner;
+  // Skip-predicted: a cluster is skipped when at least skip_covered_fraction of the unknown cells
+  // within skip_radius of it (reached through unknown space) are covered.
+  double skip_radius = 2.0;             // m
+  double skip_covered_fraction = 0.8;
+  // Clusters whose representative cell lies this close to a blacklisted point are ignored.
+  double blacklist_radius = 0.5;        // m
+  // Clusters whose representative lies this close to the robot are ignored: a frontier that near
+  // is one the forward-looking laser cannot see from here (under or behind the robot), and going
+  // to it would end at once without revealing anything. Reached later from elsewhere, the robot
+  // arrives facing it.
+  double min_target_distance = 0.5;     // m
+};
+
+// Whether an unknown cell (of the built map's lattice) is covered by an accepted hypothesis.
+using CoveredPredicate = std::function<bool(const Eigen::Vector2i& cell)>;
+
+struct ExploreRequest {
+  Eigen::Vector2d robot_position = Eigen::Vector2d::Zero();
+  CoveredPredicate covered;                // used in kSkipPredicted; empty: nothing is covered
+  std::vector<Eigen::Vector2d> blacklist;  // goals the caller gave up on (e.g. blocked on the way)
+};
+
+struct ExploreTarget {
+  FrontierCluster cluster;
+  Eigen::Vector2i cell{0, 0};          // representative: the reachable cluster cell nearest the centroid
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();  // its centre
+  double path_length = 0.0;            // m along the cell path
+  std::vector<Eigen::Vector2d> path;   // simplified waypoints from the robot to 'position'
+};
+
+struct ExploreDecision {
+  // Empty when exploration is done: no frontier cluster is left that is reachable, not skipped
+  // and not blacklisted.
+  std::optional<ExploreTarget> target;
+  int clusters = 0;          // frontier clusters found
+  int skipped = 0;           // covered by predictions
+  int unreachable = 0;       // no traversable cell reached by the search
+  int blacklisted = 0;
+  int too_close = 0;         // within min_target_distance of the robot
+  bool start_blocked = false;     // the robot's own position could not be left: nothing is reachable
+  bool search_truncated = false;  // the search hit its node cap: farther clusters were not ranked
+
+  bool done() const { return !target.has_value(); }
+};
+
+ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest& request,
+                                 const ExploreOptions& options = {});
+
+// Visible for testing: the fraction of the unknown cells within 'radius' of the cluster, reached
+// from its cells through unknown cells, for which 'covered' holds; nullopt when there are none.
+std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierCluster& cluster, double radius,
+                                      const CellClassOptions& classes, const CoveredPredicate& covered);
+
+}  // namespace pslam

@@ -1,0 +1,124 @@
+// Target selection: nearest reachable frontier cluster, skip-predicted mode, blacklist, done.
+#include <gtest/gtest.h>
+
+#include "pslam/explore/explorer.hpp"
+
+namespace pslam {
+namespace {
+
+constexpr int kFree = -2000;
+constexpr int kOccupied = 3000;
+
+// A known 6 m x 4 m room with two 1 m openings into unknown space: one in the left wall (x = 0)
+// and one in the right wall (x = 6), both between y = 1.5 m and 2.5 m.
+OccupancyGrid RoomWithTwoOpenings() {
+  OccupancyGrid grid(0.05);
+  for (int y = -1; y <= 80; ++y) {
+    for (int x = -1; x <= 120; ++x) {
+      const bool wall = x < 0 || y < 0 || x >= 120 || y >= 80;
+      const bool opening = (x < 0 || x >= 120) && y >= 30 && y < 50;
+      if (!opening) grid.MutableAt(x, y) = static_cast<OccupancyGrid::Cell>(wall ? kOccupied : kFree);
+    }
+  }
+  return grid;
+}
+
+ExploreRequest RobotAt(double x, double y) {
+  ExploreRequest request;
+  request.robot_position = {x, y};
+  return request;
+}
+
+TEST(ExploreExplorerTest, FullCoverageGoesToTheNearestCluster) {
+  const OccupancyGrid grid = RoomWithTwoOpenings();
+  const ExploreDecision decision = SelectNextTarget(grid, RobotAt(1.5, 2.0));
+  ASSERT_FALSE(decision.done());
+  EXPECT_EQ(decision.clusters, 2);
+  EXPECT_NEAR(decision.target->position.x(), 0.025, 1e-9);  // the left opening
+  EXPECT_NEAR(decision.target->position.y(), 2.0, 0.05);
+  EXPECT_NEAR(decision.target->path_length, 1.475, 0.05);
+  ASSERT_GE(decision.target->path.size(), 2u);
+  EXPECT_EQ(decision.target->path.front(), Eigen::Vector2d(1.5, 2.0));
+  EXPECT_EQ(decision.target->path.back(), decision.target->position);
+
+  // From the right half of the room the right opening is nearer.
+  EXPECT_GT(SelectNextTarget(grid, RobotAt(4.5, 2.0)).target->position.x(), 5.9);
+}
+
+TEST(ExploreExplorerTest, SkipPredictedSkipsAFullyCoveredCluster) {
+  const OccupancyGrid grid = RoomWithTwoOpenings();
+  ExploreOptions options;
+  options.mode = ExploreMode::kSkipPredicted;
+  ExploreRequest request = RobotAt(1.5, 2.0);
+  request.covered = [](const Eigen::Vector2i& c) { return c.x() < 0; };  // a hypothesis fills the left
+  const ExploreDecision decision = SelectNextTarget(grid, request, options);
+  ASSERT_FALSE(decision.done());
+  EXPECT_EQ(decision.skipped, 1);
+  EXPECT_GT(decision.target->position.x(), 5.9);  // the right opening, though farther
+
+  // Full coverage ignores the predicate.
+  options.mode = ExploreMode::kFullCoverage;
+  EXPECT_LT(SelectNextTarget(grid, request, options).target->position.x(), 0.1);
+
+  // Everything covered: nothing left to explore.
+  options.mode = ExploreMode::kSkipPredicted;
+  request.covered = [](const Eigen::Vector2i&) { return true; };
+  const ExploreDecision all = SelectNextTarget(grid, request, options);
+  EXPECT_TRUE(all.done());
+  EXPECT_EQ(all.skipped, 2);
+}
+
+TEST(ExploreExplorerTest, PartlyCoveredClustersAreStillExplored) {
+  const OccupancyGrid grid = RoomWithTwoOpenings();
+  const auto clusters = FindFrontierClusters(grid);
+  ASSERT_EQ(clusters.size(), 2u);
+  const FrontierCluster& left = clusters[0].centroid.x() < 3.0 ? clusters[0] : clusters[1];
+  // Cover only the unknown cells more than 1 m beyond the opening: about half of the 2 m reach.
+  const CoveredPredicate far = [](const Eigen::Vector2i& c) { return c.x() < -20; };
+  const auto fraction = CoveredFraction(grid, left, 2.0, CellClassOptions{}, far);
+  ASSERT_TRUE(fraction.has_value());
+  EXPECT_GT(*fraction, 0.2);
+  EXPECT_LT(*fraction, 0.8);
+
+  ExploreOptions options;
+  options.mode = ExploreMode::kSkipPredicted;
+  ExploreRequest request = RobotAt(1.5, 2.0);
+  request.covered = far;
+  const ExploreDecision decision = SelectNextTarget(grid, request, options);
+  EXPECT_EQ(decision.skipped, 0);
+  EXPECT_LT(decision.target->position.x(), 0.1);
+}
+
+TEST(ExploreExplorerTest, BlacklistedTargetsAreLeftOut) {
+  const OccupancyGrid grid = RoomWithTwoOpenings();
+  ExploreRequest request = RobotAt(1.5, 2.0);
+  request.blacklist.push_back({0.0, 2.0});
+  const ExploreDecision decision = SelectNextTarget(grid, request);
+  EXPECT_EQ(decision.blacklisted, 1);
+  EXPECT_GT(decision.target->position.x(), 5.9);
+}
+
+TEST(ExploreExplorerTest, DoneWhenNoFrontierOrNoneReachable) {
+  OccupancyGrid closed = RoomWithTwoOpenings();
+  for (int y = 30; y < 50; ++y) {
+    closed.MutableAt(-1, y) = kOccupied;
+    closed.MutableAt(120, y) = kOccupied;
+  }
+  const ExploreDecision none = SelectNextTarget(closed, RobotAt(1.5, 2.0));
+  EXPECT_TRUE(none.done());
+  EXPECT_EQ(none.clusters, 0);
+
+  // A wall across the room cuts the robot off from the right opening; the left one is closed.
+  OccupancyGrid cut = RoomWithTwoOpenings();
+  for (int y = 0; y < 80; ++y) {
+    cut.MutableAt(60, y) = kOccupied;
+  }
+  for (int y = 30; y < 50; ++y) cut.MutableAt(-1, y) = kOccupied;
+  const ExploreDecision unreachable = SelectNextTarget(cut, RobotAt(1.5, 2.0));
+  EXPECT_TRUE(unreachable.done());
+  EXPECT_EQ(unreachable.clusters, 1);
+  EXPECT_EQ(unreachable.unreachable, 1);
+}
+
+}  // namespace
+}  // namespace pslam
