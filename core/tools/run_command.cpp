@@ -13,7 +13,8 @@
 #include "cli_args.hpp"
 #include "commands.hpp"
 #include "pslam/eval/trajectory_io.hpp"
-#include "pslam/filter/rbpf.hpp"
+#include "hypotheses_json.hpp"
+#include "pslam/slam/pslam.hpp"
 #include "pslam/io/carmen_reader.hpp"
 #include "pslam/io/map_io.hpp"
 
@@ -22,11 +23,19 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: pslam run --log FILE [--particles N] [--seed S] [--threads T] [--trajectory OUT.txt]\n"
-    "                 [--map OUT_PREFIX] [--strict] [--quiet] [--set NAME=VALUE ...]\n"
+    "                 [--map OUT_PREFIX] [--processed-trajectory OUT.txt] [--strict] [--quiet]\n"
+    "                 [--no-predict] [--no-recovery] [--similarity-threshold PSI]\n"
+    "                 [--prediction-range M] [--hypotheses OUT.json] [--merged-map OUT_PREFIX]\n"
+    "                 [--set NAME=VALUE ...]\n"
     "  Maps a CARMEN log. --map writes OUT_PREFIX.pgm, .yaml and .png; --trajectory writes one line\n"
-    "  'timestamp x y theta' per laser scan of the log. --strict stops at the first corrupt line\n"
+    "  'timestamp x y theta' per laser scan of the log; --processed-trajectory only the scans at which\n"
+    "  the filter updated. --strict stops at the first corrupt line\n"
     "  (default: skip and count it). --set tunes any filter option, e.g. --set linear_update=0.5;\n"
-    "  'pslam run --help' lists them.\n";
+    "  'pslam run --help' lists them.\n"
+    "  P-SLAM predicts the structure ahead of the robot (the target is the frontier it heads toward)\n"
+    "  and weighs particles with the predictions; --no-predict runs the plain RBPF, --no-recovery\n"
+    "  keeps predictions in use even when hit ratios say they are wrong. --hypotheses writes every\n"
+    "  hypothesis as JSON, --merged-map the map with pending and confirmed predictions merged in.\n";
 
 double PeakRssMiB() {
   rusage usage{};
@@ -62,11 +71,21 @@ class ProgressBar {
 int RunRunCommand(const std::vector<std::string>& args) {
   CliArgs cli(args);
   const auto log_path = cli.Value("--log");
-  RbpfOptions options;
+  PSlamOptions pslam_options;
+  pslam_options.heading_targets = true;  // a log has no planner
+  RbpfOptions& options = pslam_options.filter;
   options.particles = cli.Int("--particles", options.particles);
   options.seed = static_cast<std::uint64_t>(cli.Int("--seed", static_cast<int>(options.seed)));
   options.threads = cli.Int("--threads", options.threads);
+  pslam_options.predict = !cli.Flag("--no-predict");
+  options.recovery = !cli.Flag("--no-recovery");
+  pslam_options.predictor.similarity_threshold =
+      cli.Double("--similarity-threshold", pslam_options.predictor.similarity_threshold);
+  pslam_options.predictor.region_size_m = cli.Double("--prediction-range", pslam_options.predictor.region_size_m);
+  const auto hypotheses_path = cli.Value("--hypotheses");
+  const auto merged_prefix = cli.Value("--merged-map");
   const auto trajectory_path = cli.Value("--trajectory");
+  const auto processed_path = cli.Value("--processed-trajectory");
   const auto map_prefix = cli.Value("--map");
   const bool strict = cli.Flag("--strict");
   const bool quiet = cli.Flag("--quiet");
@@ -81,6 +100,7 @@ int RunRunCommand(const std::vector<std::string>& args) {
     for (const auto& name : RbpfOptionNames()) std::cout << "  " << name << "\n";
     return 0;
   }
+  if (const auto problem = ValidatePredictorOptions(pslam_options.predictor)) cli.AddError(*problem);
   if (!cli.ok() || !log_path || options.particles < 1) {
     std::cerr << cli.error() << kUsage;
     return 2;
@@ -89,7 +109,8 @@ int RunRunCommand(const std::vector<std::string>& args) {
   try {
     CarmenReader reader(*log_path, CarmenReaderOptions{.strict = strict});
     ScanStream scans(reader);
-    Rbpf filter(options);
+    PSlam slam(pslam_options);
+    const Rbpf& filter = slam.filter();
     std::vector<std::string> stamps;
     ProgressBar progress(!quiet && isatty(STDERR_FILENO));
     const auto start = std::chrono::steady_clock::now();
@@ -98,10 +119,12 @@ int RunRunCommand(const std::vector<std::string>& args) {
       if (stamps.empty()) first_time = scan->timestamp;
       last_time = scan->timestamp;
       stamps.push_back(scan->timestamp_text);
-      filter.AddScan(*scan);
+      slam.AddScan(*scan);
       progress.Show(reader.progress(), static_cast<int>(stamps.size()));
     }
     progress.Finish();
+    slam.FlushPredictions();
+    slam.ScoreHypotheses();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     if (trajectory_path) {
@@ -111,7 +134,15 @@ int RunRunCommand(const std::vector<std::string>& args) {
       for (std::size_t i = 0; i < poses.size(); ++i) out.push_back({stamps[i], 0.0, poses[i]});
       WriteTrajectory(*trajectory_path, out);
     }
+    if (processed_path) {
+      const std::vector<Pose2D> poses = filter.Trajectory();
+      std::vector<StampedPose> out;
+      for (int i : filter.UpdateScanIndices()) out.push_back({stamps[static_cast<std::size_t>(i)], 0.0, poses[static_cast<std::size_t>(i)]});
+      WriteTrajectory(*processed_path, out);
+    }
     if (map_prefix) SaveMap(filter.best().map, *map_prefix);
+    if (merged_prefix) SaveMap(slam.MergedMap(), *merged_prefix);
+    if (hypotheses_path) WriteHypothesesJson(*hypotheses_path, slam);
 
     const RbpfStats& s = filter.stats();
     const CarmenReadStats& rs = reader.stats();
@@ -124,6 +155,14 @@ int RunRunCommand(const std::vector<std::string>& args) {
     std::printf("real-time factor  %.1fx (log spans %.1f s)\n", wall > 0 ? duration / wall : 0.0, duration);
     std::printf("peak memory       %.1f MiB\n", PeakRssMiB());
     std::printf("resamplings       %d\n", s.resamplings);
+    if (pslam_options.predict) {
+      const PSlamStats p = slam.stats();
+      std::printf("predictions       %d targets, %d predicted, %d hypotheses (%d confirmed, %d refuted, %d expired)\n",
+                  p.targets, p.predictions_made, p.hypotheses, p.confirmed, p.refuted, p.expired);
+      std::printf("prediction time   %.1f ms last, %.1f ms max\n", p.last_prediction_ms, p.max_prediction_ms);
+      std::printf("updates weighed   %d with hypothesis points, %d used them (hit-ratio recovery %s)\n",
+                  s.updates_with_hypothesis_points, s.updates_using_predictions, options.recovery ? "on" : "off");
+    }
     for (const auto& e : rs.first_errors) std::fprintf(stderr, "warning: %s\n", e.c_str());
     return 0;
   } catch (const std::exception& e) {

@@ -27,6 +27,24 @@ void Rbpf::SelectBest() {
                            particles_.begin());
 }
 
+void Rbpf::Resample(const std::vector<double>& weights) {
+  auto rng = MakeStream(options_.seed, static_cast<std::uint64_t>(stats_.updates), ~0ull);
+  const std::vector<int> picks = SystematicResample(weights, rng);
+  SelectBest();
+  const int previous_best = best_;
+  std::vector<Particle> next;
+  next.reserve(particles_.size());
+  best_ = -1;
+  for (int i : picks) {
+    // All weights restart equal: keep following a copy of the particle that was best.
+    if (i == previous_best && best_ < 0) best_ = static_cast<int>(next.size());
+    next.push_back(particles_[static_cast<std::size_t>(i)]);
+    next.back().log_weight = 0.0;
+  }
+  if (best_ < 0) best_ = 0;
+  particles_ = std::move(next);
+}
+
 void Rbpf::Initialize(const LaserScan& scan) {
   const ScanPoints points = ToScanPoints(scan, options_.points);
   Particle first{options_.initial_pose, 0.0, OccupancyGrid(options_.resolution), OccupancyGrid(options_.resolution),
@@ -67,23 +85,16 @@ RbpfStep Rbpf::AddScan(const LaserScan& scan) {
     const std::vector<double> weights = Weights();
     step.neff = EffectiveSampleSize(weights);
     if (step.neff < options_.resample_threshold * static_cast<double>(particles_.size())) {
-      auto rng = MakeStream(options_.seed, static_cast<std::uint64_t>(stats_.updates), ~0ull);
-      const std::vector<int> picks = SystematicResample(weights, rng);
-      std::vector<Particle> next;
-      next.reserve(particles_.size());
-      for (int i : picks) {
-        next.push_back(particles_[static_cast<std::size_t>(i)]);
-        next.back().log_weight = 0.0;
-      }
-      particles_ = std::move(next);
+      Resample(weights);
       step.resampled = true;
       ++stats_.resamplings;
+    } else {
+      SelectBest();
     }
     pool_.ParallelFor(static_cast<int>(particles_.size()), [&](int i) {
       Particle& p = particles_[static_cast<std::size_t>(i)];
       inserter_.Insert(points, p.pose, p.map, has_hypotheses_ ? &p.hypothesis : nullptr);
     });
-    SelectBest();
     odometry_at_update_ = scan.odometry;
     last_pose_ = best().pose;
     step.updated = true;
@@ -150,6 +161,27 @@ void Rbpf::AddHypothesis(const std::vector<PredictedCell>& cells) {
     }
   });
   has_hypotheses_ = true;
+}
+
+void Rbpf::RemoveHypothesis(const std::vector<PredictedCell>& cells) {
+  if (cells.empty() || particles_.empty()) return;
+  const Pose2D best_inverse = best().pose.inverse();
+  pool_.ParallelFor(static_cast<int>(particles_.size()), [&](int i) {
+    Particle& p = particles_[static_cast<std::size_t>(i)];
+    const Pose2D to_particle = p.pose * best_inverse;
+    for (const PredictedCell& c : cells) {
+      const Eigen::Vector2i cell = p.map.WorldToCell(to_particle * p.map.CellCenter(c.cell));
+      p.hypothesis.Forget(cell.x(), cell.y());
+    }
+  });
+}
+
+std::vector<int> Rbpf::UpdateScanIndices() const {
+  std::vector<int> out;
+  if (particles_.empty()) return out;
+  for (const TrajectoryNode* n = best().node.get(); n; n = n->parent.get()) out.push_back(n->scan_index);
+  std::reverse(out.begin(), out.end());
+  return out;
 }
 
 std::vector<Pose2D> Rbpf::Trajectory() const {

@@ -80,15 +80,20 @@ class Rbpf {
   // every particle's hypothesis map, moved by that particle's pose relative to the best one.
   // Cells a particle has already observed are left out: hypotheses only cover unexplored space.
   void AddHypothesis(const std::vector<PredictedCell>& cells);
+  // Takes such cells out of every particle's hypothesis map again (a refuted or expired hypothesis).
+  void RemoveHypothesis(const std::vector<PredictedCell>& cells);
 
   // The best particle's pose at every scan added so far: its own poses at updates, and in between
   // the tracked motion, bent so that it meets the next update exactly.
   std::vector<Pose2D> Trajectory() const;
+  // Indices of the scans at which the best particle's lineage was updated (the processed scans).
+  std::vector<int> UpdateScanIndices() const;
 
  private:
   void Initialize(const LaserScan& scan);
   PredictionUse UpdateParticles(const Pose2D& motion, const std::vector<Eigen::Vector2f>& hits);
   void SelectBest();
+  void Resample(const std::vector<double>& weights);
 
   RbpfOptions options_;
   ScanInserter inserter_;

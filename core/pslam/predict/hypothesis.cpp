@@ -1,0 +1,43 @@
+#include "pslam/predict/hypothesis.hpp"
+
+#include <algorithm>
+
+#include "pslam/predict/alignment.hpp"
+#include "pslam/predict/similarity.hpp"
+
+namespace pslam {
+
+Pose2D ReferenceToTarget(const Hypothesis& hypothesis) {
+  return AlignmentTransform(hypothesis.target_control_point, hypothesis.reference_control_point, hypothesis.theta);
+}
+
+double ObservedSimilarity(const Hypothesis& hypothesis, const OccupancyGrid& later_map,
+                          const CellStateThresholds& thresholds, int tolerance_cells) {
+  CellBox box;
+  for (const HypothesisCell& c : hypothesis.cells) {
+    if (later_map.IsKnown(c.cell.x(), c.cell.y())) box.Extend(c.cell);
+  }
+  if (box.empty()) return std::numeric_limits<double>::quiet_NaN();
+  // Both rasters hold only the cells observed since: the observation plays S_f (its explored
+  // part is exactly those cells), the prediction plays the aligned reference.
+  const CellClassifier classify(thresholds);
+  CellRaster observed(box.min, box.width(), box.height());
+  CellRaster predicted(box.min, box.width(), box.height());
+  for (const HypothesisCell& c : hypothesis.cells) {
+    if (!observed.Contains(c.cell)) continue;
+    const OccupancyGrid::Cell value = later_map.At(c.cell.x(), c.cell.y());
+    if (value == OccupancyGrid::kUnknown) continue;
+    const Eigen::Vector2i local = c.cell - box.min;
+    observed.Local(local.x(), local.y()) = classify(value);
+    predicted.Local(local.x(), local.y()) = c.occupied ? CellState::kOccupied : CellState::kFree;
+  }
+  return Similarity(observed, predicted, tolerance_cells);
+}
+
+std::size_t RemoveExplored(Hypothesis& hypothesis, const OccupancyGrid& map) {
+  const std::size_t before = hypothesis.cells.size();
+  std::erase_if(hypothesis.cells, [&](const HypothesisCell& c) { return map.IsKnown(c.cell.x(), c.cell.y()); });
+  return before - hypothesis.cells.size();
+}
+
+}  // namespace pslam

@@ -1,0 +1,59 @@
+#pragma once
+// A hypothesis h (P-SLAM paper, section III-C and IV-B): the predicted states of the unexplored
+// cells around an exploration target, copied from a similar region of the built map, plus what the
+// caller later learns about it (validation V(.), hit ratio of eq. 23, Psi against the real map).
+#include <Eigen/Core>
+#include <cstddef>
+#include <limits>
+#include <vector>
+
+#include "pslam/common/pose2d.hpp"
+#include "pslam/grid/occupancy_grid.hpp"
+#include "pslam/predict/map_raster.hpp"
+
+namespace pslam {
+
+struct HypothesisCell {
+  Eigen::Vector2i cell{0, 0};  // index in the grid the hypothesis was predicted for
+  bool occupied = false;       // predicted state: occupied, else free
+};
+
+struct Hypothesis {
+  enum class Status { kPending, kConfirmed, kRefuted, kExpired };
+
+  int id = 0;                           // unique per StructurePredictor, from 1
+  double time = 0.0;                    // the caller's timestamp of the request
+  Eigen::Vector2i target_cell{0, 0};    // f: the frontier cell the prediction was requested for
+  Eigen::Vector2i reference_cell{0, 0}; // f': the built-map cell that Gamma carries onto f
+  // Gamma of eq. 2 in map metres: rotate by theta about reference_control_point (P2), then
+  // translate by 'translation' = P1 - P2. ReferenceToTarget() gives it as a Pose2D.
+  double theta = 0.0;                  // radians
+  Eigen::Vector2d translation{0.0, 0.0};
+  Eigen::Vector2d target_control_point{0.0, 0.0};     // P1, metres
+  Eigen::Vector2d reference_control_point{0.0, 0.0};  // P2, metres
+  double psi = 0.0;                    // eq. 5 between S_f and the aligned reference, explored part
+  double area_m2 = 0.0;                // area predicted when generated (RemoveExplored leaves it)
+  // Cells that were never observed when the hypothesis was made, each with the state of the
+  // aligned reference cell; cells whose reference was unknown or undecided are not predicted.
+  std::vector<HypothesisCell> cells;
+  Status status = Status::kPending;    // set by the caller
+  double hit_ratio = std::numeric_limits<double>::quiet_NaN();     // eq. 23, filled by the caller
+  double psi_observed = std::numeric_limits<double>::quiet_NaN();  // ObservedSimilarity, by the caller
+};
+
+// Gamma as a rigid transform in map metres: a reference point x maps to ReferenceToTarget(h) * x.
+Pose2D ReferenceToTarget(const Hypothesis& hypothesis);
+
+// Psi (eq. 5, occupied cells only, same tolerance as the search) between the hypothesis and
+// 'later_map' over the hypothesis cells observed since it was made: how right the prediction
+// turned out. NaN when none of its cells has been observed yet; 0 when they have been but neither
+// side has an occupied cell among them. Call it before RemoveExplored, which drops those cells.
+double ObservedSimilarity(const Hypothesis& hypothesis, const OccupancyGrid& later_map,
+                          const CellStateThresholds& thresholds = {}, int tolerance_cells = 1);
+
+// The validation model V(.) of eq. 20: removes the cells that 'map' has observed since (any
+// value but OccupancyGrid::kUnknown), so the hypothesis only ever speaks for unexplored space.
+// Returns the number of cells removed.
+std::size_t RemoveExplored(Hypothesis& hypothesis, const OccupancyGrid& map);
+
+}  // namespace pslam

@@ -1,0 +1,50 @@
+#pragma once
+// Every tunable of the environmental-structure predictor, with its default, in one place.
+#include <optional>
+#include <string>
+
+#include "pslam/predict/features.hpp"
+#include "pslam/predict/map_raster.hpp"
+
+namespace pslam {
+
+struct PredictorOptions {
+  // d of the paper: S_f is the square of d_s x d_s cells centred on the target f, d_s =
+  // ceil(d / resolution) (eq. 5). The paper draws a circle of diameter d (Fig. 1) but sums eq. 5
+  // over a square; we keep the square, which is also the image the search works on.
+  double region_size_m = 10.0;
+  // The control point P1 is the corner nearest to f within this range; none, no prediction.
+  double control_point_range_m = 3.0;
+  // Reference corners closer than this to P1 are the target's own neighbourhood (f' != f in
+  // eq. 1): pairing with them would "predict" S_f from itself shifted by a few cells.
+  double min_reference_distance_m = 2.0;
+  // The search bound the paper suggests (section III-A, "a fixed searching bound"): at most this
+  // many reference corners, the strongest corner responses first, each tried at four angles.
+  int max_reference_corners = 200;
+  // Reference corners are taken within this distance of f, and features are extracted only on
+  // the window that covers them and their regions, so a prediction costs the same in a 10 km^2
+  // map as in a building wing.
+  double search_radius_m = 50.0;
+  // Psi needed for a hypothesis. The paper validates 0.4 to 0.7 and recommends 0.7 without prior
+  // knowledge of the environment (section III-C); values outside that range are rejected.
+  double similarity_threshold = 0.7;
+  // Psi is a ratio: over a few cells of wall, one matching wall piece scores as high as a whole
+  // matching room (on random polygons, a 1 m stub matched at Psi = 0.72). The explored part of
+  // S_f must hold at least this much structure (occupied cells x resolution, about the length of
+  // thin walls) for a prediction to be attempted.
+  double min_structure_m = 4.0;
+  // One-cell tolerance of the similarity measure (see similarity.hpp); 0 is eq. 5 exactly.
+  int tolerance_cells = 1;
+  // The best few alignments are refined by a small search over theta (+-2 steps of the angle that
+  // moves the region's edge by one cell) and P1 (+-1 cell): the corner angles come from Hough
+  // lines and the corners are located to about a cell, which at 5 m from P1 is already worth a
+  // cell or two of misalignment. The paper names a better alignment as future work (section VI).
+  int refined_candidates = 3;  // 0: no refinement
+  CellStateThresholds states;
+  FeatureOptions features;
+};
+
+// nullopt when 'options' is usable, else a message naming the first offending field.
+std::optional<std::string> ValidatePredictorOptions(const PredictorOptions& options);
+
+}  // namespace pslam

@@ -1,0 +1,61 @@
+#include "pslam/predict/region_matcher.hpp"
+
+#include <cmath>
+
+namespace pslam {
+
+RegionMatcher::RegionMatcher(const CellRaster& window, const CellRaster& target, int tolerance_cells)
+    : window_origin_(window.origin),
+      target_origin_(target.origin),
+      window_width_(window.width), window_height_(window.height) {
+  const std::vector<std::uint8_t> window_near = DilatedOccupancy(window, tolerance_cells);
+  window_flags_.resize(window.cells.size());
+  for (std::size_t i = 0; i < window_flags_.size(); ++i) {
+    window_flags_[i] = static_cast<std::uint8_t>((window.cells[i] == CellState::kOccupied ? kOccupied : 0) |
+                                                 (window_near[i] ? kNearOccupied : 0));
+  }
+  const std::vector<std::uint8_t> target_near = DilatedOccupancy(target, tolerance_cells);
+  for (int y = 0; y < target.height; ++y) {
+    for (int x = 0; x < target.width; ++x) {
+      const CellState s = target.Local(x, y);
+      if (!IsExplored(s)) continue;  // Psi is evaluated over the explored part of S_f only
+      const std::size_t i =
+          static_cast<std::size_t>(y) * static_cast<std::size_t>(target.width) + static_cast<std::size_t>(x);
+      const auto flags = static_cast<std::uint8_t>((s == CellState::kOccupied ? kOccupied : 0) |
+                                                   (target_near[i] ? kNearOccupied : 0));
+      // Coordinates relative to the target origin stay small, so float keeps sub-cell precision.
+      explored_.push_back({static_cast<float>(x), static_cast<float>(y), flags});
+      target_occupied_ += s == CellState::kOccupied;
+    }
+  }
+}
+
+double RegionMatcher::Psi(const Alignment& alignment) const {
+  // Window-local reference position of a target-local cell c: A c + b, with A = R(-theta) and b
+  // folding in both origins (see Alignment::ToReference). The + 0.5 makes truncation round to
+  // the nearest cell for the non-negative coordinates that can hit the window.
+  const double c = std::cos(alignment.theta), s = std::sin(alignment.theta);
+  const Eigen::Vector2d b = alignment.ToReference(target_origin_.cast<double>()) - window_origin_.cast<double>() +
+                            Eigen::Vector2d(0.5, 0.5);
+  const auto a00 = static_cast<float>(c), a01 = static_cast<float>(s), a10 = static_cast<float>(-s),
+             a11 = static_cast<float>(c);
+  const auto bx = static_cast<float>(b.x()), by = static_cast<float>(b.y());
+  const auto w = static_cast<float>(window_width_), h = static_cast<float>(window_height_);
+  std::int64_t aligned_occupied = 0, target_matched = 0, aligned_matched = 0;
+  for (const TargetCell& t : explored_) {
+    const float rx = a00 * t.x + a01 * t.y + bx;
+    const float ry = a10 * t.x + a11 * t.y + by;
+    std::uint8_t ref = 0;
+    if (rx >= 0.0f && ry >= 0.0f && rx < w && ry < h) {
+      ref = window_flags_[static_cast<std::size_t>(static_cast<int>(ry)) * static_cast<std::size_t>(window_width_) +
+                          static_cast<std::size_t>(static_cast<int>(rx))];
+    }
+    aligned_occupied += ref & kOccupied;
+    target_matched += (t.flags & kOccupied) && (ref & kNearOccupied);
+    aligned_matched += (ref & kOccupied) && (t.flags & kNearOccupied);
+  }
+  const std::int64_t total = target_occupied_ + aligned_occupied;
+  return total == 0 ? 0.0 : static_cast<double>(target_matched + aligned_matched) / static_cast<double>(total);
+}
+
+}  // namespace pslam

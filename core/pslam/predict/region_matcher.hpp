@@ -1,0 +1,48 @@
+#pragma once
+// Psi of one target region S_f against many candidate alignments into one map window: the inner
+// loop of the search (P-SLAM paper, eq. 1), which evaluates up to 4 x max_reference_corners
+// alignments per prediction. Everything that does not depend on the alignment is done once:
+// the explored cells of S_f are listed with their occupied / near-occupied flags, and the window's
+// occupied cells are dilated once, so an evaluation is one affine map, one rounding and one
+// byte lookup per explored cell.
+//
+// The result equals Similarity(target, AlignReference(...)) except that the tolerance dilation is
+// applied in the reference frame before warping rather than after; for rotations by multiples of
+// 90 degrees the two are identical, otherwise they differ by resampling only. The predictor ranks
+// with this and reports the exact value for the alignment it keeps.
+#include <cstdint>
+#include <vector>
+
+#include "pslam/predict/alignment.hpp"
+#include "pslam/predict/map_raster.hpp"
+
+namespace pslam {
+
+class RegionMatcher {
+ public:
+  // 'window' is the map raster the reference points index into (cells outside count as unknown);
+  // 'target' is S_f.
+  RegionMatcher(const CellRaster& window, const CellRaster& target, int tolerance_cells);
+
+  double Psi(const Alignment& alignment) const;
+  // Explored cells of S_f: the cost of one evaluation.
+  std::size_t explored_cells() const { return explored_.size(); }
+
+ private:
+  struct TargetCell {
+    float x, y;           // relative to the target's origin
+    std::uint8_t flags;   // kOccupied | kNearOccupied
+  };
+  static constexpr std::uint8_t kOccupied = 1;
+  static constexpr std::uint8_t kNearOccupied = 2;  // within the tolerance of an occupied cell
+
+  Eigen::Vector2i window_origin_;
+  Eigen::Vector2i target_origin_;
+  int window_width_;
+  int window_height_;
+  std::vector<std::uint8_t> window_flags_;
+  std::vector<TargetCell> explored_;
+  std::int64_t target_occupied_ = 0;
+};
+
+}  // namespace pslam

@@ -1,0 +1,175 @@
+#include "pslam/slam/pslam.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+#include "pslam/slam/heading_target.hpp"
+
+namespace pslam {
+namespace {
+
+constexpr OccupancyGrid::Cell kPredictedOccupied = 3000;  // milli log-odds, p = 0.95
+constexpr OccupancyGrid::Cell kPredictedFree = -2000;     // p = 0.12
+
+std::vector<PredictedCell> ToPredictedCells(const Hypothesis& h) {
+  std::vector<PredictedCell> cells;
+  cells.reserve(h.cells.size());
+  for (const HypothesisCell& c : h.cells) cells.push_back({c.cell, c.occupied});
+  return cells;
+}
+
+bool Active(Hypothesis::Status s) { return s == Hypothesis::Status::kPending || s == Hypothesis::Status::kConfirmed; }
+
+}  // namespace
+
+const char* StatusName(Hypothesis::Status status) {
+  switch (status) {
+    case Hypothesis::Status::kPending: return "pending";
+    case Hypothesis::Status::kConfirmed: return "confirmed";
+    case Hypothesis::Status::kRefuted: return "refuted";
+    case Hypothesis::Status::kExpired: return "expired";
+  }
+  return "unknown";
+}
+
+PSlam::PSlam(const PSlamOptions& options)
+    : options_(options), filter_(options.filter), coverage_(options.filter.resolution) {
+  if (!options_.predict) options_.filter.use_predictions = false;
+  if (options_.predict) predictor_ = std::make_unique<AsyncPredictor>(options_.predictor);
+}
+
+PSlamStats PSlam::stats() const {
+  PSlamStats s = stats_;
+  if (predictor_) {
+    const AsyncPredictorStats a = predictor_->stats();
+    s.predictions_requested = static_cast<int>(a.accepted);
+    s.predictions_made = static_cast<int>(a.completed);
+    s.last_prediction_ms = a.last_ms;
+    s.max_prediction_ms = a.max_ms;
+  }
+  return s;
+}
+
+void PSlam::SetTarget(const Eigen::Vector2i& cell, double time) {
+  if (target_ && *target_ == cell) return;
+  target_ = cell;
+  target_set_at_ = filter_.particles().empty() ? Eigen::Vector2d::Zero() : filter_.best().pose.translation();
+  ++stats_.targets;
+  // H of eq. 20 works on the best particle's map (copying it copies tile pointers only).
+  if (predictor_ && !filter_.particles().empty()) predictor_->Request(filter_.best().map, cell, time);
+}
+
+PSlamStep PSlam::AddScan(const LaserScan& scan) {
+  PSlamStep step;
+  last_time_ = scan.timestamp;
+  step.filter = filter_.AddScan(scan);
+  if (!predictor_) return step;
+  TakePrediction(scan.timestamp);
+  if (step.filter.updated) {
+    JudgeHypotheses(step.filter, scan.timestamp, step.changed_hypotheses);
+    if (options_.heading_targets) MaybeRetargetFromHeading(scan.timestamp);
+  }
+  return step;
+}
+
+void PSlam::MaybeRetargetFromHeading(double time) {
+  const Pose2D& pose = filter_.best().pose;
+  const bool reached = target_ && filter_.best().map.IsKnown(target_->x(), target_->y()) &&
+                       (filter_.best().map.CellCenter(*target_) - pose.translation()).norm() < 1.0;
+  const bool far = (pose.translation() - target_set_at_).norm() > options_.heading.retarget_distance;
+  if (target_ && !reached && !far) return;
+  if (const auto cell = HeadingFrontierTarget(filter_.best().map, pose, options_.heading)) SetTarget(*cell, time);
+  else target_set_at_ = pose.translation();  // nothing ahead: look again after driving on
+}
+
+void PSlam::TakePrediction(double time) {
+  std::optional<Hypothesis> h = predictor_->TakeResult();
+  if (!h || h->cells.empty()) return;
+  RemoveExplored(*h, filter_.best().map);  // the map moved on while the predictor worked
+  if (h->cells.empty()) return;
+  filter_.AddHypothesis(ToPredictedCells(*h));
+  for (const HypothesisCell& c : h->cells) coverage_.MutableAt(c.cell.x(), c.cell.y()) = c.occupied ? kPredictedOccupied : kPredictedFree;
+  ++stats_.hypotheses;
+  originals_.push_back(*h);
+  hypotheses_.push_back(std::move(*h));
+  last_observed_.push_back(time);
+  history_.push_back({hypotheses_.back().id, time, Hypothesis::Status::kPending});
+}
+
+void PSlam::SetStatus(std::size_t i, Hypothesis::Status status, double time) {
+  Hypothesis& h = hypotheses_[i];
+  if (h.status == status) return;
+  h.status = status;
+  history_.push_back({h.id, time, status});
+  if (status == Hypothesis::Status::kConfirmed) ++stats_.confirmed;
+  if (status == Hypothesis::Status::kRefuted) ++stats_.refuted;
+  if (status == Hypothesis::Status::kExpired) ++stats_.expired;
+  if (!Active(status)) {
+    // A refuted or expired prediction must not weigh the particles any more.
+    filter_.RemoveHypothesis(ToPredictedCells(h));
+    for (const HypothesisCell& c : h.cells) coverage_.Forget(c.cell.x(), c.cell.y());
+  }
+}
+
+void PSlam::JudgeHypotheses(const RbpfStep& step, double time, std::vector<int>& changed) {
+  const OccupancyGrid& map = filter_.best().map;
+  for (std::size_t i = 0; i < hypotheses_.size(); ++i) {
+    Hypothesis& h = hypotheses_[i];
+    if (h.status != Hypothesis::Status::kPending) continue;
+    const std::size_t removed = RemoveExplored(h, map);
+    if (removed == 0) {
+      if (time - last_observed_[i] > options_.judge.expiry_s) {
+        SetStatus(i, Hypothesis::Status::kExpired, time);
+        changed.push_back(h.id);
+      }
+      continue;
+    }
+    last_observed_[i] = time;
+    // Hit ratio (eq. 23) as the filter measured it while this hypothesis was in view.
+    if (step.prediction.hypothesis_points > 0) {
+      h.hit_ratio = std::isnan(h.hit_ratio) ? step.prediction.best_hit_ratio
+                                            : 0.7 * h.hit_ratio + 0.3 * step.prediction.best_hit_ratio;
+    }
+    for (const HypothesisCell& c : originals_[i].cells) {
+      if (map.IsKnown(c.cell.x(), c.cell.y())) coverage_.Forget(c.cell.x(), c.cell.y());
+    }
+    const double observed = 1.0 - static_cast<double>(h.cells.size()) / static_cast<double>(originals_[i].cells.size());
+    if (observed >= options_.judge.judge_observed_fraction) {
+      h.psi_observed = ObservedSimilarity(originals_[i], map, options_.predictor.states, options_.predictor.tolerance_cells);
+      SetStatus(i, h.psi_observed >= options_.judge.confirm_psi ? Hypothesis::Status::kConfirmed : Hypothesis::Status::kRefuted, time);
+    }
+    changed.push_back(h.id);
+  }
+}
+
+bool PSlam::IsCovered(const Eigen::Vector2i& cell) const { return coverage_.IsKnown(cell.x(), cell.y()); }
+
+OccupancyGrid PSlam::MergedMap() const {
+  OccupancyGrid merged = filter_.best().map;
+  for (const Hypothesis& h : hypotheses_) {
+    if (!Active(h.status)) continue;
+    for (const HypothesisCell& c : h.cells) {
+      if (!merged.IsKnown(c.cell.x(), c.cell.y())) {
+        merged.MutableAt(c.cell.x(), c.cell.y()) = c.occupied ? kPredictedOccupied : kPredictedFree;
+      }
+    }
+  }
+  return merged;
+}
+
+void PSlam::ScoreHypotheses() {
+  const OccupancyGrid& map = filter_.best().map;
+  for (std::size_t i = 0; i < hypotheses_.size(); ++i) {
+    hypotheses_[i].psi_observed =
+        ObservedSimilarity(originals_[i], map, options_.predictor.states, options_.predictor.tolerance_cells);
+  }
+}
+
+void PSlam::FlushPredictions() {
+  if (!predictor_) return;
+  while (predictor_->busy()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  TakePrediction(last_time_);
+}
+
+}  // namespace pslam

@@ -1,0 +1,89 @@
+#pragma once
+// P-SLAM (Chang et al., IEEE T-RO 2007): the particle filter plus the look-ahead mapping of
+// Fig. 6. For every new exploration target T_k the structure predictor runs on its own thread
+// over a snapshot of the best map; an accepted hypothesis h_k goes into every particle's
+// hypothesis map (H of eq. 20), weighs the particles through S2 (eq. 21-22, with the hit-ratio
+// recovery of eq. 23), and gives way cell by cell to what the robot observes (V of eq. 20). Each
+// hypothesis is judged once enough of it has been seen: confirmed or refuted by Psi against the
+// observation, or expired if the robot never goes there.
+#include <Eigen/Core>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "pslam/filter/rbpf.hpp"
+#include "pslam/predict/async_predictor.hpp"
+#include "pslam/predict/hypothesis.hpp"
+#include "pslam/slam/pslam_options.hpp"
+
+namespace pslam {
+
+struct HypothesisEvent {
+  int id = 0;
+  double time = 0.0;
+  Hypothesis::Status status = Hypothesis::Status::kPending;
+};
+
+struct PSlamStats {
+  int targets = 0;                 // exploration targets set (each asks for a prediction)
+  int predictions_requested = 0;   // accepted by the predictor (it was not busy)
+  int predictions_made = 0;        // finished, with or without a hypothesis
+  int hypotheses = 0;              // accepted hypotheses
+  int confirmed = 0, refuted = 0, expired = 0;
+  double last_prediction_ms = 0.0;
+  double max_prediction_ms = 0.0;
+};
+
+struct PSlamStep {
+  RbpfStep filter;
+  std::vector<int> changed_hypotheses;  // ids added or whose status, cells or scores changed
+};
+
+class PSlam {
+ public:
+  explicit PSlam(const PSlamOptions& options);
+
+  PSlamStep AddScan(const LaserScan& scan);
+  // Sets the exploration target T_k, a cell of the best map; a new target starts a prediction.
+  void SetTarget(const Eigen::Vector2i& cell, double time);
+  std::optional<Eigen::Vector2i> target() const { return target_; }
+
+  const Rbpf& filter() const { return filter_; }
+  const PSlamOptions& options() const { return options_; }
+  const std::vector<Hypothesis>& hypotheses() const { return hypotheses_; }
+  const std::vector<HypothesisEvent>& history() const { return history_; }
+  PSlamStats stats() const;
+  // Whether an unknown cell of the best map is covered by a pending or confirmed hypothesis: what
+  // skip-predicted exploration asks.
+  bool IsCovered(const Eigen::Vector2i& cell) const;
+  // The best map with the cells of pending and confirmed hypotheses written into unknown cells.
+  OccupancyGrid MergedMap() const;
+  // Psi of every hypothesis against the current best map, over all of its original cells observed
+  // so far (psi_observed), for reports at the end of a run.
+  void ScoreHypotheses();
+  // Waits for a running prediction to finish and takes its result (end of a log, tests).
+  void FlushPredictions();
+
+ private:
+  void TakePrediction(double time);
+  void JudgeHypotheses(const RbpfStep& step, double time, std::vector<int>& changed);
+  void SetStatus(std::size_t index, Hypothesis::Status status, double time);
+  void MaybeRetargetFromHeading(double time);
+
+  PSlamOptions options_;
+  Rbpf filter_;
+  std::unique_ptr<AsyncPredictor> predictor_;
+  std::vector<Hypothesis> hypotheses_;   // cells shrink as they are observed
+  std::vector<Hypothesis> originals_;    // as generated, for Psi against the observation
+  std::vector<double> last_observed_;    // time a cell of each hypothesis was last observed
+  std::vector<HypothesisEvent> history_;
+  OccupancyGrid coverage_;               // cells of pending/confirmed hypotheses, best frame
+  std::optional<Eigen::Vector2i> target_;
+  Eigen::Vector2d target_set_at_ = Eigen::Vector2d::Zero();
+  PSlamStats stats_;
+  double last_time_ = 0.0;
+};
+
+const char* StatusName(Hypothesis::Status status);
+
+}  // namespace pslam
