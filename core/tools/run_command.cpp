@@ -159,7 +159,16 @@ int RunRunCommand(const std::vector<std::string>& args) {
       const PSlamStats p = slam.stats();
       std::printf("predictions       %d targets, %d predicted, %d hypotheses (%d confirmed, %d refuted, %d expired)\n",
                   p.targets, p.predictions_made, p.hypotheses, p.confirmed, p.refuted, p.expired);
-      std::printf("prediction time   %.1f ms last, %.1f ms max\n", p.last_prediction_ms, p.max_prediction_ms);
+      std::printf("prediction time   %.1f ms mean, %.1f ms max\n",
+                  p.outcomes.predictions ? p.outcomes.total_ms / static_cast<double>(p.outcomes.predictions) : 0.0,
+                  p.max_prediction_ms);
+      std::printf("no hypothesis     %llu no control point, %llu too little structure, %llu no reference corner,\n"
+                  "                  %llu below the similarity threshold, %llu nothing to predict\n",
+                  static_cast<unsigned long long>(p.outcomes.no_control_point),
+                  static_cast<unsigned long long>(p.outcomes.too_little_structure),
+                  static_cast<unsigned long long>(p.outcomes.no_reference_corner),
+                  static_cast<unsigned long long>(p.outcomes.below_threshold),
+                  static_cast<unsigned long long>(p.outcomes.nothing_to_predict));
       std::printf("updates weighed   %d with hypothesis points, %d used them (hit-ratio recovery %s)\n",
                   s.updates_with_hypothesis_points, s.updates_using_predictions, options.recovery ? "on" : "off");
     }

@@ -93,7 +93,9 @@ ScanMatchResult MatchScan(const OccupancyGrid& grid, const std::vector<Eigen::Ve
     RefineOnLevel(OccupancyField(grid, level), points, result.pose, o, level == 0 ? &result.hessian : nullptr);
   }
   result.score = ScoreScan(grid, points, result.pose);
-  result.converged = result.score >= o.min_score;
+  const Pose2D correction = Between(initial, result.pose);
+  result.converged = result.score >= o.min_score && std::hypot(correction.x, correction.y) <= o.max_correction_translation &&
+                     std::abs(correction.theta) <= o.max_correction_rotation;
   if (!result.converged) result.pose = initial;
   return result;
 }

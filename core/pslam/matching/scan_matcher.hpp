@@ -17,6 +17,10 @@ struct ScanMatchOptions {
   double max_rotation_step = 0.1;    // radians per iteration
   double damping = 1e-3;             // Levenberg term relative to the Hessian's diagonal
   double min_score = 0.15;           // below this mean evidence the match is not trusted
+  // A match that moves the pose further than this from the initial guess has most likely locked
+  // onto the wrong structure (a parallel wall, the next door): it is not trusted either.
+  double max_correction_translation = 0.5;  // metres
+  double max_correction_rotation = 0.35;    // radians
 };
 
 struct ScanMatchResult {

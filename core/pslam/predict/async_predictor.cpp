@@ -69,7 +69,10 @@ void AsyncPredictor::Work(std::stop_token stop) {
     ++stats_.completed;
     stats_.last_ms = ms;
     stats_.max_ms = std::max(stats_.max_ms, ms);
-    if (predictor_) stats_.last_report = predictor_->last_report();
+    if (predictor_) {
+      stats_.last_report = predictor_->last_report();
+      stats_.outcomes = predictor_->stats();
+    }
     if (result) {
       ++stats_.hypotheses;
       if (result_) ++stats_.results_replaced;

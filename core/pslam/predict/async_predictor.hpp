@@ -30,6 +30,7 @@ struct AsyncPredictorStats {
   double last_ms = 0.0;               // wall time of the last prediction on the worker
   double max_ms = 0.0;
   PredictionReport last_report;       // of the last prediction (default with a custom function)
+  PredictorStats outcomes;            // counts per outcome so far (empty with a custom function)
 };
 
 class AsyncPredictor {

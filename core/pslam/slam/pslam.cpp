@@ -47,6 +47,7 @@ PSlamStats PSlam::stats() const {
     s.predictions_made = static_cast<int>(a.completed);
     s.last_prediction_ms = a.last_ms;
     s.max_prediction_ms = a.max_ms;
+    s.outcomes = a.outcomes;
   }
   return s;
 }

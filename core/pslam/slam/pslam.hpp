@@ -32,6 +32,7 @@ struct PSlamStats {
   int confirmed = 0, refuted = 0, expired = 0;
   double last_prediction_ms = 0.0;
   double max_prediction_ms = 0.0;
+  PredictorStats outcomes;         // why predictions did or did not yield a hypothesis
 };
 
 struct PSlamStep {
