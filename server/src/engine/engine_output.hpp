@@ -1,0 +1,41 @@
+#pragma once
+// What a running session engine reports, as plain data; the service turns it into wire messages
+// and database rows.
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "model/checkpoint.hpp"
+#include "model/engine_stats.hpp"
+#include "model/hypothesis.hpp"
+#include "pslam/common/pose2d.hpp"
+#include "pslam/grid/occupancy_grid.hpp"
+
+namespace pslam::server {
+
+struct LiveTile {
+  int tx = 0, ty = 0;
+  std::uint64_t revision = 0;
+  std::shared_ptr<const std::vector<std::uint8_t>> cells;  // EncodeLiveTile
+};
+
+// One tick of the live view (at most 10 per second): what changed since the previous tick.
+struct LiveFrame {
+  double resolution = 0.05;
+  std::shared_ptr<const OccupancyGrid> map;          // the best particle's map at this tick
+  std::vector<LiveTile> tiles;                       // changed tiles
+  std::optional<Pose2D> pose;                        // robot pose estimate
+  std::int64_t trajectory_first_index = 0;           // scan index of trajectory[0]
+  std::vector<TrajectoryRow> trajectory;             // poses of the scans since the previous tick
+  std::vector<Pose2D> particles;
+  std::vector<double> weights;
+  std::vector<HypothesisRecord> hypotheses_changed;
+  std::vector<std::int64_t> hypotheses_removed;
+  std::vector<std::array<double, 2>> frontiers;
+  std::optional<ExplorationTarget> target;
+  EngineStats stats;
+};
+
+}  // namespace pslam::server

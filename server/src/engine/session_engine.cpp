@@ -1,0 +1,300 @@
+#include "engine/session_engine.hpp"
+
+#include <algorithm>
+#include <exception>
+
+#include "engine/tile_codec.hpp"
+
+namespace pslam::server {
+namespace {
+constexpr double kRateWindowSeconds = 5.0;
+constexpr std::size_t kTimingWindow = 200;
+constexpr std::size_t kMaxLiveParticles = 2000;  // a viewer needs the cloud's shape, not every particle
+}  // namespace
+
+SessionEngine::SessionEngine(std::string session_id, SessionSettings settings, LaserGeometry laser,
+                             EngineTiming timing, EngineSinks sinks)
+    : session_id_(std::move(session_id)),
+      settings_(std::move(settings)),
+      laser_(laser),
+      timing_(timing),
+      sinks_(std::move(sinks)) {}
+
+SessionEngine::~SessionEngine() { Join(StopMode::kAbort); }
+
+void SessionEngine::Start(BacklogReader backlog, std::int64_t backlog_until) {
+  rebuilding_ = backlog_until > 0;
+  thread_ = std::thread([this, backlog = std::move(backlog), backlog_until]() mutable {
+    Loop(std::move(backlog), backlog_until);
+  });
+}
+
+void SessionEngine::Push(InputRecord input, SteadyTime received) {
+  {
+    std::lock_guard lock(mutex_);
+    if (stop_ != StopMode::kNone) return;
+    queue_.push_back({std::move(input), received});
+  }
+  wake_.notify_one();
+}
+
+void SessionEngine::WaitForRoom(std::size_t max_queued) {
+  std::unique_lock lock(mutex_);
+  room_.wait(lock, [&] { return queue_.size() < max_queued || stop_ != StopMode::kNone || failed_; });
+}
+
+void SessionEngine::Finish() { Join(StopMode::kFinish); }
+void SessionEngine::Stop() { Join(StopMode::kStop); }
+void SessionEngine::Abort() { Join(StopMode::kAbort); }
+
+void SessionEngine::Join(StopMode mode) {
+  {
+    std::lock_guard lock(mutex_);
+    // A stronger request overrides a weaker one (abort > stop > finish), never the reverse.
+    if (static_cast<int>(mode) > static_cast<int>(stop_)) stop_ = mode;
+  }
+  wake_.notify_all();
+  room_.notify_all();
+  if (thread_.joinable() && thread_.get_id() != std::this_thread::get_id()) thread_.join();
+}
+
+std::size_t SessionEngine::queued() const {
+  std::lock_guard lock(mutex_);
+  return queue_.size();
+}
+
+EngineStats SessionEngine::stats() const {
+  std::lock_guard lock(mutex_);
+  EngineStats s = stats_;
+  s.queued = queue_.size();
+  s.rebuilding = rebuilding_;
+  return s;
+}
+
+std::shared_ptr<const LiveFrame> SessionEngine::latest_frame() const {
+  std::lock_guard lock(mutex_);
+  return latest_frame_;
+}
+
+void SessionEngine::Loop(BacklogReader backlog, std::int64_t backlog_until) {
+  try {
+    pipeline_ = std::make_unique<SlamPipeline>(settings_, laser_);
+    last_live_ = last_checkpoint_ = SteadyNow();
+    // Rebuild: the stored inputs of a resumed session, straight from the database.
+    std::int64_t after = 0;
+    bool more = backlog_until > 0;
+    while (more) {
+      {
+        std::lock_guard lock(mutex_);
+        if (stop_ == StopMode::kAbort || stop_ == StopMode::kStop) break;
+      }
+      const std::vector<InputRecord> chunk = backlog(after);
+      more = !chunk.empty();
+      for (const InputRecord& input : chunk) {
+        if (input.seq > backlog_until) {
+          more = false;
+          break;
+        }
+        Process(input, std::nullopt);
+        after = input.seq;
+      }
+      if (after >= backlog_until) more = false;
+    }
+    rebuilding_ = false;
+
+    const auto live_period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(timing_.live_period_seconds));
+    for (;;) {
+      Queued next;
+      {
+        std::unique_lock lock(mutex_);
+        if (queue_.empty() && stop_ == StopMode::kNone) {
+          // Idle: wake for the next input, or to publish what the last inputs changed.
+          if (live_dirty_) {
+            wake_.wait_until(lock, last_live_ + live_period, [&] { return !queue_.empty() || stop_ != StopMode::kNone; });
+          } else {
+            wake_.wait(lock, [&] { return !queue_.empty() || stop_ != StopMode::kNone; });
+          }
+        }
+        if (stop_ == StopMode::kAbort || stop_ == StopMode::kStop) break;
+        if (queue_.empty()) {
+          if (stop_ == StopMode::kFinish) break;
+          lock.unlock();
+          if (live_dirty_ && SteadyNow() - last_live_ >= live_period) PublishLive();
+          continue;
+        }
+        next = std::move(queue_.front());
+        queue_.pop_front();
+      }
+      room_.notify_all();
+      Process(next.input, next.received);
+    }
+    StopMode mode;
+    {
+      std::lock_guard lock(mutex_);
+      mode = stop_;
+    }
+    if (mode == StopMode::kAbort) return;
+    PublishLive();
+    WriteCheckpoint(/*final_checkpoint=*/true);
+    if (mode == StopMode::kFinish && sinks_.finished) sinks_.finished();
+  } catch (const std::exception& e) {
+    failed_ = true;
+    room_.notify_all();
+    if (sinks_.failed) sinks_.failed(e.what());
+  }
+}
+
+void SessionEngine::Process(const InputRecord& input, std::optional<SteadyTime> received) {
+  if (input.seq <= processed_seq_.load()) return;  // already in the filter
+  const SteadyTime start = SteadyNow();
+  PipelineStep step = pipeline_->Add(input);
+  const double step_ms = SecondsSince(start) * 1e3;
+  if (step.scan) {
+    online_.push_back({static_cast<std::int64_t>(online_.size()), input.seq, input.t, input.stamp, step.filter.pose.x,
+                       step.filter.pose.y, step.filter.pose.theta});
+    recent_scans_.push_back(SteadyNow());
+    RecordTiming(received ? SecondsSince(*received) * 1e3 : -1.0, step_ms);
+  }
+  for (HypothesisRecord& h : step.hypotheses_changed) {
+    live_hypotheses_.push_back(h);
+    stored_hypotheses_.push_back(std::move(h));
+  }
+  for (std::int64_t id : step.hypotheses_removed) live_removed_.push_back(id);
+  if (step.target) {
+    live_target_ = step.target;
+    if (sinks_.target && !rebuilding_) sinks_.target(*step.target);
+  }
+  processed_seq_ = input.seq;
+  live_dirty_ = stored_dirty_ = true;
+  if (sinks_.progress) sinks_.progress(input.seq);
+
+  const SteadyTime now = SteadyNow();
+  if (SecondsSince(last_live_) >= timing_.live_period_seconds) PublishLive();
+  if (std::chrono::duration<double>(now - last_checkpoint_).count() >= timing_.checkpoint_period_seconds) {
+    WriteCheckpoint(false);
+  }
+}
+
+void SessionEngine::RecordTiming(double latency_ms, double step_ms) {
+  recent_timing_.emplace_back(latency_ms, step_ms);
+  if (recent_timing_.size() > kTimingWindow) recent_timing_.pop_front();
+}
+
+EngineStats SessionEngine::CurrentStats() const {
+  EngineStats s;
+  s.processed_seq = processed_seq_.load();
+  const RbpfStats& f = pipeline_->filter_stats();
+  s.scans = f.scans;
+  s.updates = f.updates;
+  s.resamplings = f.resamplings;
+  s.neff = f.neff;
+  s.particles = pipeline_->started() ? pipeline_->particle_count() : settings_.particles;
+  const SteadyTime now = SteadyNow();
+  std::size_t in_window = 0;
+  for (auto it = recent_scans_.rbegin(); it != recent_scans_.rend(); ++it) {
+    if (std::chrono::duration<double>(now - *it).count() > kRateWindowSeconds) break;
+    ++in_window;
+  }
+  if (in_window > 1) {
+    const double span = std::chrono::duration<double>(now - recent_scans_[recent_scans_.size() - in_window]).count();
+    s.scan_rate_hz = span > 0 ? static_cast<double>(in_window) / std::max(span, 1e-3) : 0.0;
+  }
+  double latency_sum = 0.0, step_sum = 0.0;
+  std::size_t latency_n = 0;
+  for (const auto& [latency, step] : recent_timing_) {
+    step_sum += step;
+    if (latency < 0) continue;
+    latency_sum += latency;
+    ++latency_n;
+    s.latency_ms_max = std::max(s.latency_ms_max, latency);
+  }
+  if (latency_n > 0) s.latency_ms_mean = latency_sum / static_cast<double>(latency_n);
+  if (!recent_timing_.empty()) s.step_ms_mean = step_sum / static_cast<double>(recent_timing_.size());
+  s.rebuilding = rebuilding_;
+  return s;
+}
+
+void SessionEngine::PublishLive() {
+  last_live_ = SteadyNow();
+  while (recent_scans_.size() > 1 &&
+         std::chrono::duration<double>(last_live_ - recent_scans_.front()).count() > kRateWindowSeconds) {
+    recent_scans_.pop_front();
+  }
+  auto frame = std::make_shared<LiveFrame>();
+  frame->resolution = settings_.resolution;
+  frame->stats = CurrentStats();
+  if (pipeline_->started()) {
+    frame->map = std::make_shared<const OccupancyGrid>(pipeline_->map());
+    for (const Eigen::Vector2i& t : live_tiles_.Changed(*frame->map)) {
+      const OccupancyGrid::Tile* tile = frame->map->TileAt(t.x(), t.y());
+      frame->tiles.push_back({t.x(), t.y(), tile ? tile->revision : 0,
+                              std::make_shared<const std::vector<std::uint8_t>>(EncodeLiveTile(tile))});
+    }
+    frame->particles = pipeline_->ParticlePoses();
+    frame->weights = pipeline_->Weights();
+    if (frame->particles.size() > kMaxLiveParticles) {
+      frame->particles.resize(kMaxLiveParticles);
+      frame->weights.resize(kMaxLiveParticles);
+    }
+  }
+  if (!online_.empty()) {
+    const TrajectoryRow& last = online_.back();
+    frame->pose = Pose2D(last.x, last.y, last.theta);
+  }
+  frame->trajectory_first_index = static_cast<std::int64_t>(live_trajectory_sent_);
+  frame->trajectory.assign(online_.begin() + static_cast<std::ptrdiff_t>(live_trajectory_sent_), online_.end());
+  live_trajectory_sent_ = online_.size();
+  frame->hypotheses_changed = std::move(live_hypotheses_);
+  live_hypotheses_.clear();
+  frame->hypotheses_removed = std::move(live_removed_);
+  live_removed_.clear();
+  frame->frontiers = pipeline_->frontiers();
+  frame->target = live_target_;
+  live_dirty_ = false;
+  {
+    std::lock_guard lock(mutex_);
+    stats_ = frame->stats;
+    latest_frame_ = frame;
+  }
+  if (sinks_.live) sinks_.live(frame);
+}
+
+void SessionEngine::WriteCheckpoint(bool final_checkpoint) {
+  last_checkpoint_ = SteadyNow();
+  if (!stored_dirty_ && !final_checkpoint) return;
+  stored_dirty_ = false;
+  Checkpoint c;
+  c.session_id = session_id_;
+  c.processed_seq = processed_seq_.load();
+  c.resolution = settings_.resolution;
+  c.scans = static_cast<std::int64_t>(online_.size());
+  if (pipeline_->started()) {
+    const OccupancyGrid map = pipeline_->map();  // a copy: the tracker keeps it
+    for (const Eigen::Vector2i& t : stored_tiles_.Changed(map)) {
+      const OccupancyGrid::Tile* tile = map.TileAt(t.x(), t.y());
+      c.tiles.push_back({t.x(), t.y(), OccupancyGrid::kTileSize, tile ? static_cast<std::int64_t>(tile->revision) : 0,
+                         EncodeStoredTile(tile)});
+    }
+  }
+  if (final_checkpoint && pipeline_->started()) {
+    // The best particle's trajectory, corrected by everything the filter learned since.
+    const std::vector<Pose2D> smoothed = pipeline_->Trajectory();
+    c.replace_trajectory = true;
+    c.trajectory = online_;
+    for (std::size_t i = 0; i < c.trajectory.size() && i < smoothed.size(); ++i) {
+      c.trajectory[i].x = smoothed[i].x;
+      c.trajectory[i].y = smoothed[i].y;
+      c.trajectory[i].theta = smoothed[i].theta;
+    }
+  } else {
+    c.trajectory.assign(online_.begin() + static_cast<std::ptrdiff_t>(stored_trajectory_sent_), online_.end());
+  }
+  stored_trajectory_sent_ = online_.size();
+  c.stats = CurrentStats();
+  c.hypotheses = std::move(stored_hypotheses_);
+  stored_hypotheses_.clear();
+  if (sinks_.checkpoint) sinks_.checkpoint(std::move(c));
+}
+
+}  // namespace pslam::server

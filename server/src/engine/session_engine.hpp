@@ -1,0 +1,125 @@
+#pragma once
+// Runs one session's SlamPipeline on a thread of its own, so that neither the network threads nor
+// other sessions ever wait for the filter. Inputs arrive through Push() after they are durably
+// stored; the engine publishes live frames (at most every live_period) and storage checkpoints
+// (every checkpoint_period) through callbacks called on its thread.
+//
+// The input queue has no bound of its own: callers bound it by admission (the ingest stops reading
+// from an agent whose unprocessed inputs exceed a limit; a replay waits in WaitForRoom).
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "common/clock.hpp"
+#include "engine/engine_output.hpp"
+#include "engine/slam_pipeline.hpp"
+#include "engine/tile_tracker.hpp"
+#include "model/input.hpp"
+#include "model/session_settings.hpp"
+
+namespace pslam::server {
+
+struct EngineTiming {
+  double live_period_seconds = 0.1;
+  double checkpoint_period_seconds = 2.0;
+};
+
+struct EngineSinks {
+  std::function<void(std::shared_ptr<const LiveFrame>)> live;
+  std::function<void(Checkpoint)> checkpoint;
+  std::function<void(std::int64_t processed_seq)> progress;
+  std::function<void(const ExplorationTarget&)> target;
+  std::function<void(const std::string& error)> failed;
+  std::function<void()> finished;  // after the final checkpoint of Finish()
+};
+
+// Stored inputs with seq > 'after_seq', in order (a chunk; empty when there are no more).
+using BacklogReader = std::function<std::vector<InputRecord>(std::int64_t after_seq)>;
+
+class SessionEngine {
+ public:
+  SessionEngine(std::string session_id, SessionSettings settings, LaserGeometry laser, EngineTiming timing,
+                EngineSinks sinks);
+  ~SessionEngine();
+  SessionEngine(const SessionEngine&) = delete;
+  SessionEngine& operator=(const SessionEngine&) = delete;
+
+  // Starts the thread. It first re-runs the stored inputs up to 'backlog_until' through the filter
+  // (a resumed session), then takes pushed inputs.
+  void Start(BacklogReader backlog, std::int64_t backlog_until);
+  // Queues an input; inputs at or below the last processed seq are ignored (exactly once).
+  void Push(InputRecord input, SteadyTime received);
+  // Blocks until fewer than 'max_queued' inputs wait (replays pace themselves with this).
+  void WaitForRoom(std::size_t max_queued);
+  // Processes everything queued, writes the final checkpoint (with the best particle's smoothed
+  // trajectory), calls sinks.finished and joins. For closing a session.
+  void Finish();
+  // Stops after the current input, writes a checkpoint and joins. For a server shutdown.
+  void Stop();
+  // Stops without a checkpoint. For a deleted session.
+  void Abort();
+
+  const std::string& session_id() const { return session_id_; }
+  std::int64_t processed_seq() const { return processed_seq_.load(); }
+  std::size_t queued() const;
+  bool failed() const { return failed_.load(); }
+  EngineStats stats() const;
+  std::shared_ptr<const LiveFrame> latest_frame() const;
+
+ private:
+  enum class StopMode { kNone, kFinish, kStop, kAbort };
+  struct Queued {
+    InputRecord input;
+    SteadyTime received;
+  };
+
+  void Loop(BacklogReader backlog, std::int64_t backlog_until);
+  void Process(const InputRecord& input, std::optional<SteadyTime> received);
+  void PublishLive();
+  void WriteCheckpoint(bool final_checkpoint);
+  void RecordTiming(double latency_ms, double step_ms);
+  EngineStats CurrentStats() const;  // engine thread
+  void Join(StopMode mode);
+
+  const std::string session_id_;
+  const SessionSettings settings_;
+  const LaserGeometry laser_;
+  const EngineTiming timing_;
+  EngineSinks sinks_;
+
+  // Engine thread only.
+  std::unique_ptr<SlamPipeline> pipeline_;
+  TileTracker live_tiles_;
+  TileTracker stored_tiles_;
+  std::vector<TrajectoryRow> online_;            // per scan: seq, time, online pose estimate
+  std::size_t live_trajectory_sent_ = 0;
+  std::size_t stored_trajectory_sent_ = 0;
+  std::vector<HypothesisRecord> live_hypotheses_, stored_hypotheses_;
+  std::vector<std::int64_t> live_removed_;
+  std::optional<ExplorationTarget> live_target_;
+  bool live_dirty_ = true;
+  bool stored_dirty_ = false;
+  SteadyTime last_live_{};
+  SteadyTime last_checkpoint_{};
+  std::deque<SteadyTime> recent_scans_;
+  std::deque<std::pair<double, double>> recent_timing_;  // (latency ms or -1, step ms)
+
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  std::condition_variable room_;
+  std::deque<Queued> queue_;
+  StopMode stop_ = StopMode::kNone;
+  EngineStats stats_;                                    // copy for other threads
+  std::shared_ptr<const LiveFrame> latest_frame_;
+  std::atomic<std::int64_t> processed_seq_{0};
+  std::atomic<bool> failed_{false};
+  std::atomic<bool> rebuilding_{false};
+  std::thread thread_;
+};
+
+}  // namespace pslam::server

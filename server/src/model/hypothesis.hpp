@@ -1,0 +1,45 @@
+#pragma once
+// What the P-SLAM structure predictor produces, as plain data: the server stores, filters and
+// streams these without knowing how they were made.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pslam::server {
+
+struct GridCell {
+  int x = 0, y = 0;
+};
+
+struct PredictedCell {
+  int x = 0, y = 0;
+  float occupancy = 0.5f;  // predicted probability of occupancy
+};
+
+// One predicted structure: a known region (around 'reference_cell') registered onto the unexplored
+// region around 'target_cell' by a rotation 'theta' and a translation.
+struct HypothesisRecord {
+  std::int64_t id = 0;              // unique within the session
+  double time = 0.0;                // Unix seconds of the prediction (or of the last status change)
+  GridCell target_cell;
+  GridCell reference_cell;
+  double theta = 0.0;               // radians
+  double translation_x = 0.0, translation_y = 0.0;  // metres
+  double psi = 0.0;                 // registration score of the prediction
+  double area = 0.0;                // square metres covered by 'cells'
+  std::vector<PredictedCell> cells;
+  std::string status = "proposed";  // proposed | accepted | confirmed | rejected | removed
+  double hit_ratio = 0.0;           // share of predicted cells confirmed by later scans
+  double psi_observed = 0.0;        // score of the prediction against the observed map
+};
+
+// The next exploration goal, in the map frame, with the path to it and the robot pose it was
+// planned from (the agent tracks the path in its odometry frame through that correspondence).
+struct ExplorationTarget {
+  double x = 0.0, y = 0.0;
+  std::vector<std::array<double, 2>> path;
+  double pose_x = 0.0, pose_y = 0.0, pose_theta = 0.0;
+};
+
+}  // namespace pslam::server

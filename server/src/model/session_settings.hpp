@@ -1,0 +1,32 @@
+#pragma once
+// What a session is made of besides its inputs: the laser's geometry (from the agent's hello) and
+// the mapping settings (server defaults, overridden per session by hello or by a replay request).
+#include <cstdint>
+#include <string>
+
+namespace pslam::server {
+
+struct LaserGeometry {
+  double angle_min = 0.0;          // radians
+  double angle_increment = 0.0;    // radians
+  int beams = 0;
+  double max_range = 0.0;          // metres
+  double min_range = 0.0;          // metres
+  double offset_x = 0.0, offset_y = 0.0, offset_theta = 0.0;  // sensor pose in the robot frame
+};
+
+struct SessionSettings {
+  int particles = 30;
+  std::uint64_t seed = 1;
+  bool predict = true;             // run the structure predictor (P-SLAM) when the engine has one
+  int threads = 1;                 // worker threads of this session's filter
+  double resolution = 0.05;        // metres per cell
+  double linear_update = 0.25;     // metres of motion between filter updates
+  double angular_update = 0.2;     // radians of turn between filter updates
+  double resample_threshold = 0.5; // resample when N_eff < threshold * particles
+  // Settings of the structure predictor as a JSON object, kept opaque here: the predictor layer
+  // parses (and validates) it, so adding a predictor tunable does not touch the server.
+  std::string predictor_json = "{}";
+};
+
+}  // namespace pslam::server

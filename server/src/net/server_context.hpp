@@ -1,0 +1,68 @@
+#pragma once
+// What every connection needs: limits, access checks, the router, static files, the hub, the
+// mapping service and the worker pool that runs request handlers off the network threads. Also
+// keeps track of open WebSockets, so a shutdown can close them with "going away".
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "api/access.hpp"
+#include "api/router.hpp"
+#include "net/beast.hpp"
+#include "net/hub.hpp"
+#include "net/static_files.hpp"
+#include "service/mapping_service.hpp"
+
+namespace pslam::server {
+
+struct NetLimits {
+  std::size_t max_body_bytes = 1 << 20;        // HTTP request bodies
+  std::size_t max_message_bytes = 1 << 20;     // WebSocket messages from agents and viewers
+  std::chrono::seconds http_timeout{30};       // reading a request, writing a response
+  std::size_t max_websockets = 256;
+};
+
+class Closable {
+ public:
+  virtual ~Closable() = default;
+  virtual void CloseForShutdown() = 0;  // posts a close with 1001 (going away)
+};
+
+class ServerContext {
+ public:
+  ServerContext(NetLimits limits, TokenAuth auth, StaticFiles files, MappingService& mapping,
+                net::thread_pool& workers)
+      : limits(limits), auth(std::move(auth)), files(std::move(files)), mapping(mapping), workers(workers) {}
+
+  // The access a request's token grants: "Authorization: Bearer T", or "?token=T" for clients that
+  // cannot set headers (browsers opening a WebSocket).
+  Access AccessOf(const http::request<http::string_body>& req, bool* token_given) const;
+  // An HTTP request that is not a WebSocket upgrade: the API under /api/, static files elsewhere.
+  http::response<http::string_body> HandleHttp(const http::request<http::string_body>& req, const std::string& remote);
+  // Logs a refused request (stderr and the events table).
+  void LogRefusal(const std::string& method, const std::string& path, const std::string& remote, int status);
+
+  bool Track(const std::shared_ptr<Closable>& socket);  // false above max_websockets
+  void CloseAll();
+  std::size_t websockets();
+
+  const NetLimits limits;
+  const TokenAuth auth;
+  Router router;
+  const StaticFiles files;
+  Hub hub;
+  MappingService& mapping;
+  net::thread_pool& workers;
+  std::atomic<std::size_t> agents{0};
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::weak_ptr<Closable>> sockets_;
+};
+
+http::response<http::string_body> ToBeastResponse(ApiResponse response, unsigned version, bool keep_alive, bool head);
+
+}  // namespace pslam::server

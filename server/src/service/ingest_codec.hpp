@@ -1,0 +1,52 @@
+#pragma once
+// Decoding of the agent protocol (schema/ws/ingest.md): hello, odom, scan (JSON or the binary PSC1
+// form) and the server's replies. A message that cannot be accepted decodes to an IngestError with
+// the protocol's error code and a message that says what is wrong.
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <variant>
+
+#include "model/hypothesis.hpp"
+#include "model/input.hpp"
+#include "model/session_settings.hpp"
+#include "service/settings_codec.hpp"
+
+namespace pslam::server {
+
+inline constexpr int kIngestProtocolVersion = 1;
+
+struct HelloMessage {
+  int version = kIngestProtocolVersion;
+  std::string robot_id;
+  std::string session = "new";     // "new" or the id of a session to resume
+  std::string session_name;
+  std::optional<LaserGeometry> laser;
+  nlohmann::json settings;         // null when absent; parsed against the server defaults later
+};
+
+struct IngestError {
+  std::string code;                // bad_message | unauthorized | too_large | unknown_session | overloaded
+  std::string message;
+};
+
+using IngestMessage = std::variant<HelloMessage, InputRecord, IngestError>;
+
+// A text frame. Before the hello ('laser' null) only a hello is accepted; after it, odom and scan,
+// whose ranges must number laser->beams.
+IngestMessage DecodeTextMessage(std::string_view text, const LaserGeometry* laser, const SettingsLimits& limits);
+// A binary frame: a PSC1 scan.
+IngestMessage DecodeBinaryScan(std::span<const std::uint8_t> bytes, const LaserGeometry* laser);
+// Encodes a PSC1 scan (for agents and tests).
+std::string EncodeBinaryScan(const InputRecord& scan);
+
+std::string WelcomeMessage(const std::string& session_id, std::int64_t last_acked_seq);
+std::string AckMessage(std::int64_t seq);
+std::string ErrorMessage(const std::string& code, const std::string& message);
+std::string TargetMessage(const ExplorationTarget& target);
+
+}  // namespace pslam::server

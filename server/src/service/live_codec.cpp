@@ -1,0 +1,166 @@
+#include "service/live_codec.hpp"
+
+#include <cstring>
+
+#include "engine/tile_codec.hpp"
+#include "pslam/grid/occupancy_grid.hpp"
+#include "service/json_views.hpp"
+
+namespace pslam::server {
+namespace {
+
+std::string Dump(const nlohmann::json& j) { return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace); }
+
+nlohmann::json PoseJson(const Pose2D& p) { return {{"type", "pose"}, {"x", p.x}, {"y", p.y}, {"theta", p.theta}}; }
+
+nlohmann::json ParticlesJson(const std::vector<Pose2D>& poses, const std::vector<double>& weights) {
+  nlohmann::json list = nlohmann::json::array();
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    list.push_back({poses[i].x, poses[i].y, poses[i].theta, i < weights.size() ? weights[i] : 0.0});
+  }
+  return {{"type", "particles"}, {"poses", list}};
+}
+
+nlohmann::json ExplorationJson(const LiveFrame& f) {
+  nlohmann::json frontiers = nlohmann::json::array();
+  for (const auto& p : f.frontiers) frontiers.push_back({p[0], p[1]});
+  return {{"type", "exploration"},
+          {"frontiers", frontiers},
+          {"target", f.target ? TargetToJson(*f.target) : nlohmann::json()}};
+}
+
+nlohmann::json HypothesisEvent(const char* event, const nlohmann::json& body) {
+  return {{"type", "hypothesis"}, {"event", event}, {"hypothesis", body}};
+}
+
+nlohmann::json TrajectoryPoses(std::span<const TrajectoryRow> rows) {
+  nlohmann::json poses = nlohmann::json::array();
+  for (const TrajectoryRow& r : rows) poses.push_back({r.x, r.y, r.theta, r.t});
+  return poses;
+}
+
+nlohmann::json SnapshotJson(const std::string& session_id, const std::string& status, double resolution,
+                            std::size_t tile_count) {
+  return {{"type", "snapshot"},
+          {"session_id", session_id},
+          {"status", status},
+          {"resolution", resolution},
+          {"tile_size", OccupancyGrid::kTileSize},
+          {"tile_count", tile_count}};
+}
+
+}  // namespace
+
+Bytes EncodeTileFrame(int tx, int ty, std::uint64_t revision, std::span<const std::uint8_t> zlib_cells) {
+  std::string out(kTileFrameHeader + zlib_cells.size(), '\0');
+  const std::int32_t x = tx, y = ty;
+  const auto size = static_cast<std::uint16_t>(OccupancyGrid::kTileSize);
+  std::memcpy(out.data(), "PSTL", 4);
+  std::memcpy(out.data() + 4, &x, 4);
+  std::memcpy(out.data() + 8, &y, 4);
+  std::memcpy(out.data() + 12, &size, 2);
+  out[14] = static_cast<char>(kTileEncodingPercent);
+  std::memcpy(out.data() + 16, &revision, 8);
+  if (!zlib_cells.empty()) std::memcpy(out.data() + kTileFrameHeader, zlib_cells.data(), zlib_cells.size());
+  return MakeBytes(std::move(out));
+}
+
+Bytes TrajectoryMessage(std::int64_t first_index, std::span<const TrajectoryRow> rows) {
+  return MakeBytes(Dump({{"type", "trajectory"}, {"first_index", first_index}, {"poses", TrajectoryPoses(rows)}}));
+}
+
+Bytes SessionStatusMessage(const std::string& session_id, const std::string& status) {
+  return MakeBytes(Dump({{"type", "session"}, {"session_id", session_id}, {"status", status}}));
+}
+
+LiveDelta LiveState::Apply(const LiveFrame& f) {
+  LiveDelta d;
+  resolution_ = f.resolution;
+  for (const LiveTile& t : f.tiles) {
+    Bytes frame = EncodeTileFrame(t.tx, t.ty, t.revision, *t.cells);
+    tiles_[{t.tx, t.ty}] = frame;
+    d.tiles.emplace_back(TileKey{t.tx, t.ty}, std::move(frame));
+  }
+  if (f.pose) {
+    pose_ = PoseJson(*f.pose);
+    d.pose = MakeBytes(Dump(pose_));
+  }
+  if (!f.particles.empty()) {
+    particles_ = ParticlesJson(f.particles, f.weights);
+    d.particles = MakeBytes(Dump(particles_));
+  }
+  stats_ = {{"type", "stats"}, {"stats", EngineStatsToJson(f.stats)}};
+  d.stats = MakeBytes(Dump(stats_));
+  nlohmann::json exploration = ExplorationJson(f);
+  if (exploration != exploration_) {
+    exploration_ = std::move(exploration);
+    d.exploration = MakeBytes(Dump(exploration_));
+  }
+  if (!f.trajectory.empty()) {
+    // Increments are contiguous: a restarted engine starts again at 0 and replaces the history.
+    if (f.trajectory_first_index < static_cast<std::int64_t>(trajectory_.size())) {
+      trajectory_.resize(static_cast<std::size_t>(f.trajectory_first_index));
+    }
+    trajectory_.insert(trajectory_.end(), f.trajectory.begin(), f.trajectory.end());
+    d.trajectory_first_index = f.trajectory_first_index;
+    d.trajectory = std::make_shared<const std::vector<TrajectoryRow>>(f.trajectory);
+  }
+  for (const HypothesisRecord& h : f.hypotheses_changed) {
+    const bool known = hypotheses_.count(h.id) > 0;
+    nlohmann::json body = HypothesisToJson(h, /*with_cells=*/false);
+    hypotheses_[h.id] = body;
+    d.hypotheses.emplace_back(h.id, MakeBytes(Dump(HypothesisEvent(known ? "updated" : "added", body))));
+  }
+  for (std::int64_t id : f.hypotheses_removed) {
+    hypotheses_.erase(id);
+    d.hypotheses.emplace_back(id, MakeBytes(Dump(HypothesisEvent("removed", {{"id", id}}))));
+  }
+  return d;
+}
+
+std::vector<LiveMessage> LiveState::Snapshot() const {
+  nlohmann::json s = SnapshotJson(session_id_, "active", resolution_, tiles_.size());
+  s["pose"] = pose_.is_null() ? nlohmann::json() : nlohmann::json{{"x", pose_["x"]}, {"y", pose_["y"]}, {"theta", pose_["theta"]}};
+  s["trajectory"] = {{"first_index", 0}, {"poses", TrajectoryPoses(trajectory_)}};
+  s["particles"] = particles_.is_null() ? nlohmann::json::array() : particles_["poses"];
+  nlohmann::json hypotheses = nlohmann::json::array();
+  for (const auto& [id, body] : hypotheses_) hypotheses.push_back(body);
+  s["hypotheses"] = std::move(hypotheses);
+  s["frontiers"] = exploration_.is_null() ? nlohmann::json::array() : exploration_["frontiers"];
+  s["target"] = exploration_.is_null() ? nlohmann::json() : exploration_["target"];
+  s["stats"] = stats_.is_null() ? nlohmann::json::object() : stats_["stats"];
+  std::vector<LiveMessage> out;
+  out.reserve(tiles_.size() + 1);
+  out.push_back({MakeBytes(Dump(s)), false});
+  for (const auto& [key, frame] : tiles_) out.push_back({frame, true});
+  return out;
+}
+
+std::vector<LiveMessage> StoredSnapshot(const std::string& session_id, const std::string& status, double resolution,
+                                        const std::vector<TileRow>& tiles, const std::vector<TrajectoryRow>& trajectory,
+                                        const std::vector<HypothesisRecord>& hypotheses, const nlohmann::json& stats) {
+  std::vector<LiveMessage> frames;
+  for (const TileRow& t : tiles) {
+    const auto live = StoredToLiveTile(t.data);
+    if (live) frames.push_back({EncodeTileFrame(t.tx, t.ty, static_cast<std::uint64_t>(t.revision), *live), true});
+  }
+  nlohmann::json s = SnapshotJson(session_id, status, resolution, frames.size());
+  s["pose"] = trajectory.empty() ? nlohmann::json()
+                                 : nlohmann::json{{"x", trajectory.back().x}, {"y", trajectory.back().y},
+                                                  {"theta", trajectory.back().theta}};
+  s["trajectory"] = {{"first_index", 0}, {"poses", TrajectoryPoses(trajectory)}};
+  s["particles"] = nlohmann::json::array();
+  nlohmann::json list = nlohmann::json::array();
+  for (const HypothesisRecord& h : hypotheses) list.push_back(HypothesisToJson(h, false));
+  s["hypotheses"] = std::move(list);
+  s["frontiers"] = nlohmann::json::array();
+  s["target"] = nullptr;
+  s["stats"] = stats;
+  std::vector<LiveMessage> out;
+  out.reserve(frames.size() + 1);
+  out.push_back({MakeBytes(Dump(s)), false});
+  for (auto& f : frames) out.push_back(std::move(f));
+  return out;
+}
+
+}  // namespace pslam::server

@@ -1,0 +1,526 @@
+#include "service/mapping_service.hpp"
+
+#include <cinttypes>
+#include <cstdio>
+#include <iostream>
+
+#include "common/clock.hpp"
+#include "engine/tile_codec.hpp"
+#include "service/api_error.hpp"
+#include "service/json_fields.hpp"
+#include "service/json_views.hpp"
+
+namespace pslam::server {
+namespace {
+constexpr int kBacklogChunk = 256;
+constexpr int kSnapshotTrajectoryLimit = 1 << 20;
+constexpr int kSnapshotHypothesisLimit = 10000;
+}  // namespace
+
+MappingService::MappingService(ServiceOptions options, StorageWriter& writer, ReadPool& reads)
+    : options_(std::move(options)), writer_(writer), reads_(reads), id_rng_(std::random_device{}()) {}
+
+MappingService::~MappingService() { Shutdown(); }
+
+void MappingService::SetLiveSinks(LiveSink live, EndSink ended) {
+  live_sink_ = std::move(live);
+  end_sink_ = std::move(ended);
+}
+
+std::string MappingService::NewSessionId() {
+  std::lock_guard lock(mutex_);
+  char id[32];
+  std::snprintf(id, sizeof id, "s-%016" PRIx64, static_cast<std::uint64_t>(id_rng_()));
+  return id;
+}
+
+std::shared_ptr<SessionRuntime> MappingService::Running(const std::string& id) const {
+  std::lock_guard lock(mutex_);
+  const auto it = running_.find(id);
+  return it == running_.end() ? nullptr : it->second;
+}
+
+std::shared_ptr<SessionRuntime> MappingService::TakeRunning(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  const auto it = running_.find(id);
+  if (it == running_.end()) return nullptr;
+  auto rt = it->second;
+  running_.erase(it);
+  return rt;
+}
+
+std::size_t MappingService::running_sessions() const {
+  std::lock_guard lock(mutex_);
+  return running_.size();
+}
+
+std::shared_ptr<SessionRuntime> MappingService::Launch(const SessionRow& row, const SessionSettings& settings,
+                                                       const LaserGeometry& laser, std::int64_t stored_seq) {
+  auto rt = std::make_shared<SessionRuntime>();
+  rt->id = row.id;
+  rt->source = row.source;
+  rt->settings = settings;
+  rt->laser = laser;
+  rt->last_received = rt->last_committed = stored_seq;
+  const std::weak_ptr<SessionRuntime> weak = rt;
+  const std::string id = row.id;
+
+  EngineSinks sinks;
+  sinks.live = [this, id](std::shared_ptr<const LiveFrame> frame) {
+    if (live_sink_) live_sink_(id, std::move(frame));
+  };
+  sinks.checkpoint = [this](Checkpoint c) { OnCheckpoint(std::move(c)); };
+  sinks.progress = [this, weak](std::int64_t processed) { OnProgress(weak, processed); };
+  sinks.target = [weak](const ExplorationTarget& target) {
+    const auto runtime = weak.lock();
+    if (!runtime) return;
+    std::shared_ptr<AgentLink> agent;
+    {
+      std::lock_guard lock(runtime->mutex);
+      agent = runtime->agent.lock();
+    }
+    if (agent) agent->SendTarget(target);
+  };
+  sinks.failed = [this, id, weak](const std::string& error) {
+    std::cerr << "session " << id << ": engine failed: " << error << "\n";
+    LogEvent(id, "engine_failed", {{"error", error}});
+    writer_.Submit([id](SessionRepository& repo) { repo.SetStatus(id, "failed", UnixNow()); });
+    if (const auto runtime = weak.lock()) {
+      std::lock_guard lock(runtime->mutex);
+      runtime->closing = true;
+      runtime->progress.notify_all();
+    }
+  };
+  rt->engine = std::make_unique<SessionEngine>(row.id, settings, laser, options_.timing, std::move(sinks));
+  {
+    std::lock_guard lock(mutex_);
+    running_[row.id] = rt;
+  }
+  BacklogReader backlog = [this, id](std::int64_t after) {
+    auto lease = reads_.Acquire();
+    return lease->repository().LoadInputs(id, after, kBacklogChunk);
+  };
+  rt->engine->Start(std::move(backlog), stored_seq);
+  return rt;
+}
+
+void MappingService::Recover() {
+  std::vector<SessionRow> rows;
+  {
+    auto lease = reads_.Acquire();
+    for (const std::string& id : lease->repository().SessionIdsWithStatus("active")) {
+      if (auto row = lease->repository().GetSession(id)) rows.push_back(std::move(*row));
+    }
+  }
+  for (const SessionRow& row : rows) {
+    SessionSettings settings;
+    LaserGeometry laser;
+    try {
+      settings = ParseSessionSettings(ParseStoredJson(row.settings_json), options_.defaults, options_.limits);
+      laser = ParseLaserGeometry(ParseStoredJson(row.laser_json), options_.limits);
+    } catch (const std::exception& e) {
+      std::cerr << "session " << row.id << ": cannot resume (" << e.what() << "), marking it failed\n";
+      writer_.Execute([id = row.id](SessionRepository& repo) { repo.SetStatus(id, "failed", UnixNow()); });
+      continue;
+    }
+    Launch(row, settings, laser, row.last_seq);
+    // A replay's feeder did not survive the restart: what it stored is mapped, then the session
+    // closes. An agent's session waits for the agent to reconnect, unless told otherwise.
+    const bool close = row.source == "replay" || !options_.resume_on_restart;
+    LogEvent(row.id, close ? "closing_after_restart" : "resumed_after_restart", {{"inputs", row.last_seq}});
+    std::cerr << "session " << row.id << ": rebuilding from " << row.last_seq << " stored inputs"
+              << (close ? ", then closing" : "") << "\n";
+    if (close) {
+      if (row.source == "replay") {
+        writer_.Submit([id = row.id](SessionRepository& repo) { repo.SetMetrics(id, R"({"interrupted":true})"); });
+      }
+      std::lock_guard lock(mutex_);
+      closers_.emplace_back([this, id = row.id] {
+        try {
+          CloseSession(id);
+        } catch (const std::exception& e) {
+          std::cerr << "session " << id << ": closing after restart failed: " << e.what() << "\n";
+        }
+      });
+    }
+  }
+}
+
+void MappingService::Shutdown() {
+  std::vector<std::thread> closers;
+  {
+    std::lock_guard lock(mutex_);
+    closers.swap(closers_);
+  }
+  for (auto& t : closers) t.join();
+  std::map<std::string, std::shared_ptr<SessionRuntime>> running;
+  {
+    std::lock_guard lock(mutex_);
+    running.swap(running_);
+  }
+  for (auto& [id, rt] : running) {
+    {
+      std::lock_guard lock(rt->mutex);
+      rt->closing = true;
+      rt->progress.notify_all();
+    }
+    rt->engine->Stop();  // checkpoints; the session stays active and resumes at the next start
+  }
+}
+
+void MappingService::OpenForAgent(const HelloMessage& hello, const std::shared_ptr<AgentLink>& link,
+                                  std::function<void(AgentOpen)> done) {
+  if (hello.session != "new") {
+    const auto rt = Running(hello.session);
+    if (!rt) {
+      done({nullptr, 0, IngestError{"unknown_session", "session '" + hello.session.substr(0, 64) + "' is not active"}});
+      return;
+    }
+    if (hello.laser && hello.laser->beams != rt->laser.beams) {
+      done({nullptr, 0, IngestError{"bad_message", "hello: the session's laser has " + std::to_string(rt->laser.beams) +
+                                                        " beams, not " + std::to_string(hello.laser->beams)}});
+      return;
+    }
+    std::shared_ptr<AgentLink> previous;
+    std::int64_t acked = 0;
+    {
+      std::lock_guard lock(rt->mutex);
+      if (rt->closing) {
+        done({nullptr, 0, IngestError{"unknown_session", "session " + rt->id + " is closing"}});
+        return;
+      }
+      previous = rt->agent.lock();
+      rt->agent = link;
+      rt->agent_waiting = false;
+      acked = rt->last_committed;
+    }
+    if (previous && previous != link) previous->Disconnect("replaced", "a newer connection of the agent took the session");
+    LogEvent(rt->id, "agent_connected", {{"robot_id", hello.robot_id}, {"resumed", true}, {"last_acked_seq", acked}});
+    done({rt, acked, std::nullopt});
+    return;
+  }
+  if (running_sessions() >= options_.max_running_sessions) {
+    done({nullptr, 0, IngestError{"overloaded", "the server runs its maximum of sessions"}});
+    return;
+  }
+  SessionSettings settings;
+  try {
+    settings = ParseSessionSettings(hello.settings, options_.defaults, options_.limits, "hello.settings");
+  } catch (const ApiError& e) {
+    done({nullptr, 0, IngestError{"bad_message", e.what()}});
+    return;
+  }
+  SessionRow row;
+  row.id = NewSessionId();
+  row.name = hello.session_name;
+  row.robot_id = hello.robot_id;
+  row.source = "agent";
+  row.created_at = row.updated_at = UnixNow();
+  row.laser_json = LaserGeometryToJson(*hello.laser).dump();
+  row.settings_json = SessionSettingsToJson(settings).dump();
+  const LaserGeometry laser = *hello.laser;
+  const bool queued = writer_.Submit(
+      [row](SessionRepository& repo) {
+        repo.CreateSession(row);
+        repo.AddEvent(row.id, "created", nlohmann::json{{"source", "agent"}, {"robot_id", row.robot_id}}.dump(),
+                      row.created_at);
+      },
+      [this, row, settings, laser, link, done](bool ok, const std::string& error) {
+        if (!ok) {
+          done({nullptr, 0, IngestError{"storage_error", "cannot create the session: " + error}});
+          return;
+        }
+        auto rt = Launch(row, settings, laser, 0);
+        {
+          std::lock_guard lock(rt->mutex);
+          rt->agent = link;
+        }
+        done({rt, 0, std::nullopt});
+      });
+  if (!queued) done({nullptr, 0, IngestError{"overloaded", "the server is shutting down"}});
+}
+
+MappingService::AdmitResult MappingService::Admit(const std::shared_ptr<SessionRuntime>& rt, const AgentLink* link,
+                                                  InputRecord input) {
+  std::lock_guard lock(rt->mutex);
+  AdmitResult result;
+  result.committed_seq = rt->last_committed;
+  result.expected_seq = rt->last_received + 1;
+  if (rt->closing) {
+    result.admission = Admission::kClosed;
+    return result;
+  }
+  if (link && rt->agent.lock().get() != link) {
+    result.admission = Admission::kNotOwner;
+    return result;
+  }
+  if (input.seq <= rt->last_received) {
+    result.admission = Admission::kDuplicate;
+    return result;
+  }
+  if (input.seq != rt->last_received + 1) {
+    result.admission = Admission::kOutOfOrder;
+    return result;
+  }
+  const std::int64_t seq = input.seq;
+  auto shared = std::make_shared<InputRecord>(std::move(input));
+  const SteadyTime received = SteadyNow();
+  const std::weak_ptr<SessionRuntime> weak = rt;
+  // Submitted under the runtime's lock, so inputs reach the writer in seq order even if a newer
+  // connection of the agent takes over at this moment.
+  const bool queued = writer_.Submit(
+      [id = rt->id, shared](SessionRepository& repo) { repo.InsertInput(id, *shared); },
+      [this, weak, seq, shared, received](bool ok, const std::string& error) {
+        OnCommitted(weak, seq, ok, error, shared, received);
+      });
+  if (!queued) {
+    result.admission = Admission::kClosed;
+    return result;
+  }
+  rt->last_received = seq;
+  result.expected_seq = seq + 1;
+  return result;
+}
+
+void MappingService::OnCommitted(const std::weak_ptr<SessionRuntime>& weak, std::int64_t seq, bool ok,
+                                 const std::string& error, const std::shared_ptr<InputRecord>& input,
+                                 SteadyTime received) {
+  const auto rt = weak.lock();
+  if (!rt) return;
+  std::shared_ptr<AgentLink> agent;
+  {
+    std::lock_guard lock(rt->mutex);
+    agent = rt->agent.lock();
+    if (!ok) {
+      // Forget what was admitted after the last commit: the agent's resend of it is admitted
+      // again (inputs that did commit meanwhile are ignored by InsertInput then).
+      rt->last_received = rt->last_committed;
+    } else if (seq != rt->last_committed + 1) {
+      return;  // an earlier input failed to commit; this one waits for the resend
+    } else {
+      rt->last_committed = seq;
+    }
+  }
+  if (!ok) {
+    std::cerr << "session " << rt->id << ": storing input " << seq << " failed: " << error << "\n";
+    if (agent) agent->Disconnect("storage_error", "storing input " + std::to_string(seq) + " failed; resend after reconnecting");
+    return;
+  }
+  rt->engine->Push(std::move(*input), received);
+  if (agent) agent->SendAck(seq);
+}
+
+void MappingService::OnProgress(const std::weak_ptr<SessionRuntime>& weak, std::int64_t processed) {
+  const auto rt = weak.lock();
+  if (!rt) return;
+  std::shared_ptr<AgentLink> agent;
+  {
+    std::lock_guard lock(rt->mutex);
+    rt->progress.notify_all();
+    if (!rt->agent_waiting || rt->last_received - processed > options_.max_inflight / 2) return;
+    rt->agent_waiting = false;
+    agent = rt->agent.lock();
+  }
+  if (agent) agent->Resume();
+}
+
+bool MappingService::PauseIfOverloaded(const std::shared_ptr<SessionRuntime>& rt) {
+  std::lock_guard lock(rt->mutex);
+  if (rt->last_received - rt->engine->processed_seq() <= options_.max_inflight) return false;
+  rt->agent_waiting = true;
+  return true;
+}
+
+void MappingService::WaitForRoom(const std::shared_ptr<SessionRuntime>& rt) {
+  std::unique_lock lock(rt->mutex);
+  while (!rt->closing && !rt->engine->failed() &&
+         rt->last_received - rt->engine->processed_seq() >= options_.max_inflight) {
+    rt->progress.wait_for(lock, std::chrono::milliseconds(200));
+  }
+}
+
+void MappingService::Detach(const std::shared_ptr<SessionRuntime>& rt, const AgentLink* link) {
+  {
+    std::lock_guard lock(rt->mutex);
+    if (rt->agent.lock().get() != link) return;
+    rt->agent.reset();
+    rt->agent_waiting = false;
+  }
+  LogEvent(rt->id, "agent_disconnected", nlohmann::json::object());
+}
+
+void MappingService::OnCheckpoint(Checkpoint c) {
+  c.stats_json = EngineStatsToJson(c.stats).dump();
+  const double now = UnixNow();
+  writer_.Submit([c = std::move(c), now](SessionRepository& repo) { repo.WriteCheckpoint(c, now); },
+                 [](bool ok, const std::string& error) {
+                   if (!ok) std::cerr << "storage: checkpoint failed: " << error << "\n";
+                 });
+}
+
+SessionRow MappingService::CreateSession(const nlohmann::json& body) {
+  JsonFields f(body, "session");
+  SessionRow row;
+  row.name = f.String("name").value_or("");
+  row.robot_id = f.String("robot_id", 128).value_or("");
+  const nlohmann::json* laser_json = f.Object("laser");
+  if (!laser_json) f.Fail("laser", "is required");
+  const LaserGeometry laser = ParseLaserGeometry(*laser_json, options_.limits, "session.laser");
+  const nlohmann::json* settings_json = f.Object("settings");
+  const SessionSettings settings = ParseSessionSettings(settings_json ? *settings_json : nlohmann::json(),
+                                                        options_.defaults, options_.limits, "session.settings");
+  f.RejectUnknown();
+  row.source = "api";
+  const auto rt = StartSession(row, settings, laser);
+  return GetSession(rt->id);
+}
+
+std::shared_ptr<SessionRuntime> MappingService::StartSession(SessionRow row, const SessionSettings& settings,
+                                                             const LaserGeometry& laser) {
+  if (running_sessions() >= options_.max_running_sessions) {
+    throw ApiError::Unavailable("the server runs its maximum of " + std::to_string(options_.max_running_sessions) +
+                                " sessions");
+  }
+  if (row.id.empty()) row.id = NewSessionId();
+  row.status = "active";
+  row.created_at = row.updated_at = UnixNow();
+  row.laser_json = LaserGeometryToJson(laser).dump();
+  row.settings_json = SessionSettingsToJson(settings).dump();
+  writer_.Execute([&row](SessionRepository& repo) {
+    repo.CreateSession(row);
+    repo.AddEvent(row.id, "created", nlohmann::json{{"source", row.source}}.dump(), row.created_at);
+  });
+  return Launch(row, settings, laser, 0);
+}
+
+SessionRow MappingService::GetSession(const std::string& id) {
+  auto lease = reads_.Acquire();
+  auto row = lease->repository().GetSession(id);
+  if (!row) throw ApiError::NotFound("no session '" + id.substr(0, 64) + "'");
+  return *row;
+}
+
+SessionPage MappingService::ListSessions(const SessionFilter& filter) {
+  auto lease = reads_.Acquire();
+  return lease->repository().ListSessions(filter);
+}
+
+SessionRow MappingService::CloseSession(const std::string& id, const std::string& status) {
+  const auto rt = Running(id);
+  if (!rt) {
+    SessionRow row = GetSession(id);
+    if (row.status != "active") return row;  // closing twice is not an error
+    writer_.Execute([&](SessionRepository& repo) { repo.SetStatus(id, status, UnixNow()); });
+    return GetSession(id);
+  }
+  std::shared_ptr<AgentLink> agent;
+  {
+    std::lock_guard lock(rt->mutex);
+    if (rt->closing) throw ApiError::Conflict("session " + id + " is already closing");
+    rt->closing = true;
+    agent = rt->agent.lock();
+    rt->agent.reset();
+    rt->progress.notify_all();
+  }
+  if (agent) agent->Disconnect("closed", "the session was closed");
+  // Inputs admitted before the close are committed and queued for the engine first (the writer
+  // runs jobs in order), then the engine drains, then its final checkpoint precedes the status.
+  writer_.Execute([](SessionRepository&) {});
+  rt->engine->Finish();
+  writer_.Execute([&](SessionRepository& repo) {
+    repo.SetStatus(id, status, UnixNow());
+    repo.AddEvent(id, "closed", nlohmann::json{{"status", status}}.dump(), UnixNow());
+  });
+  TakeRunning(id);
+  if (end_sink_) end_sink_(id, status);
+  return GetSession(id);
+}
+
+void MappingService::DeleteSession(const std::string& id) {
+  if (const auto rt = TakeRunning(id)) {
+    std::shared_ptr<AgentLink> agent;
+    {
+      std::lock_guard lock(rt->mutex);
+      rt->closing = true;
+      agent = rt->agent.lock();
+      rt->agent.reset();
+      rt->progress.notify_all();
+    }
+    if (agent) agent->Disconnect("closed", "the session was deleted");
+    rt->engine->Abort();
+  }
+  bool deleted = false;
+  writer_.Execute([&](SessionRepository& repo) { deleted = repo.DeleteSession(id); });
+  if (end_sink_) end_sink_(id, "deleted");
+  if (!deleted) throw ApiError::NotFound("no session '" + id.substr(0, 64) + "'");
+}
+
+nlohmann::json MappingService::Statistics(const std::string& id) {
+  SessionRow row = GetSession(id);
+  HypothesisCounts counts;
+  {
+    auto lease = reads_.Acquire();
+    counts = lease->repository().CountHypotheses(id);
+  }
+  nlohmann::json out = {{"session_id", id}, {"status", row.status}};
+  const auto rt = Running(id);
+  out["running"] = rt != nullptr;
+  std::int64_t acked = row.last_seq, received = row.last_seq;
+  if (rt) {
+    out["filter"] = EngineStatsToJson(rt->engine->stats());
+    std::lock_guard lock(rt->mutex);
+    acked = rt->last_committed;
+    received = rt->last_received;
+  } else {
+    out["filter"] = ParseStoredJson(row.stats_json);
+  }
+  out["ingest"] = {{"received_seq", received}, {"acked_seq", acked}};
+  out["predictions"] = HypothesisCountsToJson(counts);
+  out["metrics"] = ParseStoredJson(row.metrics_json);
+  const WriterStats w = writer_.stats();
+  out["storage"] = {{"commits", w.commits},
+                    {"jobs", w.jobs},
+                    {"last_commit_ms", w.last_commit_ms},
+                    {"max_commit_ms", w.max_commit_ms},
+                    {"queued", writer_.queued()}};
+  return out;
+}
+
+MapView MappingService::CurrentMap(const std::string& id) {
+  if (const auto rt = Running(id)) {
+    const auto frame = rt->engine->latest_frame();
+    return {frame ? frame->map : nullptr, rt->settings.resolution, true};
+  }
+  const SessionRow row = GetSession(id);
+  const nlohmann::json settings = ParseStoredJson(row.settings_json);
+  const double resolution = settings.value("resolution_meters", options_.defaults.resolution);
+  std::vector<TileRow> tiles;
+  {
+    auto lease = reads_.Acquire();
+    tiles = lease->repository().LoadTiles(id);
+  }
+  if (tiles.empty()) return {nullptr, resolution, false};
+  return {std::make_shared<const OccupancyGrid>(GridFromTiles(tiles, resolution)), resolution, false};
+}
+
+std::vector<LiveMessage> MappingService::StoredLiveSnapshot(const std::string& id) {
+  const SessionRow row = GetSession(id);
+  const nlohmann::json settings = ParseStoredJson(row.settings_json);
+  const double resolution = settings.value("resolution_meters", options_.defaults.resolution);
+  auto lease = reads_.Acquire();
+  SessionRepository& repo = lease->repository();
+  HypothesisFilter all;
+  all.limit = kSnapshotHypothesisLimit;
+  return pslam::server::StoredSnapshot(id, row.status, resolution, repo.LoadTiles(id),
+                                       repo.LoadTrajectory(id, 0, kSnapshotTrajectoryLimit),
+                                       repo.QueryHypotheses(id, all).hypotheses, ParseStoredJson(row.stats_json));
+}
+
+void MappingService::LogEvent(const std::optional<std::string>& session_id, const std::string& kind,
+                              nlohmann::json detail) {
+  const std::string text = detail.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  const double now = UnixNow();
+  writer_.Submit([session_id, kind, text, now](SessionRepository& repo) { repo.AddEvent(session_id, kind, text, now); });
+}
+
+}  // namespace pslam::server

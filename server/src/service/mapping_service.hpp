@@ -1,0 +1,134 @@
+#pragma once
+// Owns the running sessions: creates them, admits their inputs exactly once, stores them before
+// acknowledging, feeds them to each session's engine, and closes, deletes or resumes them. Thread
+// safe; nothing here runs on a network thread for long (durable writes go to the StorageWriter,
+// filtering to the engines). Methods that wait for storage (CreateSession, CloseSession, ...) are
+// for the REST worker threads only.
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "engine/engine_output.hpp"
+#include "engine/session_engine.hpp"
+#include "service/agent_link.hpp"
+#include "service/ingest_codec.hpp"
+#include "service/live_codec.hpp"
+#include "service/session_runtime.hpp"
+#include "service/settings_codec.hpp"
+#include "storage/read_pool.hpp"
+#include "storage/storage_writer.hpp"
+
+namespace pslam::server {
+
+struct ServiceOptions {
+  SessionSettings defaults;
+  SettingsLimits limits;
+  EngineTiming timing;
+  std::int64_t max_inflight = 256;   // per session: inputs admitted but not yet in the filter
+  std::size_t max_running_sessions = 16;
+  bool resume_on_restart = true;     // false: sessions left active are rebuilt and closed
+};
+
+// The current map of a session: live from the engine, or rebuilt from the stored tiles.
+struct MapView {
+  std::shared_ptr<const OccupancyGrid> grid;  // null: nothing mapped yet
+  double resolution = 0.05;
+  bool live = false;
+};
+
+class MappingService {
+ public:
+  using LiveSink = std::function<void(const std::string& session_id, std::shared_ptr<const LiveFrame> frame)>;
+  using EndSink = std::function<void(const std::string& session_id, const std::string& status)>;
+
+  MappingService(ServiceOptions options, StorageWriter& writer, ReadPool& reads);
+  ~MappingService();
+  MappingService(const MappingService&) = delete;
+  MappingService& operator=(const MappingService&) = delete;
+
+  // Where engines send live frames, and who hears that a session stopped running. Set before Recover.
+  void SetLiveSinks(LiveSink live, EndSink ended);
+  // At start-up: every session left active is rebuilt from its stored inputs and resumed (or,
+  // with resume_on_restart off, closed once rebuilt).
+  void Recover();
+  // Stops every engine after its current input with a checkpoint. The writer is stopped by its owner.
+  void Shutdown();
+
+  // ---- Agent protocol (called on network threads; non-blocking) ----
+  struct AgentOpen {
+    std::shared_ptr<SessionRuntime> runtime;
+    std::int64_t last_acked_seq = 0;
+    std::optional<IngestError> error;
+  };
+  // Creates or resumes the session named by 'hello' for 'link'. 'done' runs once the session is
+  // durably created (on the storage thread) or at once for a resume or an error.
+  void OpenForAgent(const HelloMessage& hello, const std::shared_ptr<AgentLink>& link,
+                    std::function<void(AgentOpen)> done);
+
+  enum class Admission { kAccepted, kDuplicate, kOutOfOrder, kClosed, kNotOwner };
+  struct AdmitResult {
+    Admission admission = Admission::kAccepted;
+    std::int64_t expected_seq = 0;   // the next seq the session takes
+    std::int64_t committed_seq = 0;  // everything up to here is acknowledged
+  };
+  // Admits one input from 'link' (null: a replay feeder). Accepted inputs are stored, then
+  // acknowledged to the session's agent and queued for the engine, in seq order.
+  AdmitResult Admit(const std::shared_ptr<SessionRuntime>& runtime, const AgentLink* link, InputRecord input);
+  // True if the session has more work in flight than allowed; then the agent link is resumed
+  // (AgentLink::Resume) once it has fallen to half.
+  bool PauseIfOverloaded(const std::shared_ptr<SessionRuntime>& runtime);
+  // Blocks until the session has room for another input (replay feeders).
+  void WaitForRoom(const std::shared_ptr<SessionRuntime>& runtime);
+  void Detach(const std::shared_ptr<SessionRuntime>& runtime, const AgentLink* link);
+
+  // ---- Sessions (REST worker threads; may block on storage) ----
+  SessionRow CreateSession(const nlohmann::json& body);
+  // Starts a session of 'source' with the given settings and no inputs yet (replays).
+  std::shared_ptr<SessionRuntime> StartSession(SessionRow row, const SessionSettings& settings,
+                                               const LaserGeometry& laser);
+  SessionRow GetSession(const std::string& id);  // throws ApiError 404
+  SessionPage ListSessions(const SessionFilter& filter);
+  // Drains the engine, writes the final map and trajectory, marks the session closed.
+  SessionRow CloseSession(const std::string& id, const std::string& status = "closed");
+  void DeleteSession(const std::string& id);
+  nlohmann::json Statistics(const std::string& id);
+  MapView CurrentMap(const std::string& id);
+  std::vector<LiveMessage> StoredLiveSnapshot(const std::string& id);
+  void LogEvent(const std::optional<std::string>& session_id, const std::string& kind, nlohmann::json detail);
+
+  std::shared_ptr<SessionRuntime> Running(const std::string& id) const;
+  std::size_t running_sessions() const;
+  const ServiceOptions& options() const { return options_; }
+  StorageWriter& writer() { return writer_; }
+  ReadPool& reads() { return reads_; }
+
+ private:
+  std::string NewSessionId();
+  std::shared_ptr<SessionRuntime> Launch(const SessionRow& row, const SessionSettings& settings,
+                                         const LaserGeometry& laser, std::int64_t stored_seq);
+  void OnCommitted(const std::weak_ptr<SessionRuntime>& weak, std::int64_t seq, bool ok, const std::string& error,
+                   const std::shared_ptr<InputRecord>& input, SteadyTime received);
+  void OnProgress(const std::weak_ptr<SessionRuntime>& weak, std::int64_t processed);
+  void OnCheckpoint(Checkpoint checkpoint);
+  std::shared_ptr<SessionRuntime> TakeRunning(const std::string& id);
+
+  const ServiceOptions options_;
+  StorageWriter& writer_;
+  ReadPool& reads_;
+  LiveSink live_sink_;
+  EndSink end_sink_;
+
+  mutable std::mutex mutex_;
+  std::map<std::string, std::shared_ptr<SessionRuntime>> running_;
+  std::mt19937_64 id_rng_;
+  std::vector<std::thread> closers_;  // closing sessions left active at a restart
+};
+
+}  // namespace pslam::server

@@ -1,0 +1,94 @@
+#include "service/settings_codec.hpp"
+
+#include "service/json_fields.hpp"
+
+namespace pslam::server {
+
+SessionSettings ParseSessionSettings(const nlohmann::json& json, const SessionSettings& defaults,
+                                     const SettingsLimits& limits, const std::string& where) {
+  SessionSettings s = defaults;
+  if (json.is_null()) return s;
+  JsonFields f(json, where);
+  if (auto v = f.Integer("particles")) {
+    if (*v < 1 || *v > limits.max_particles) f.Fail("particles", "must be in [1, " + std::to_string(limits.max_particles) + "]");
+    s.particles = static_cast<int>(*v);
+  }
+  if (auto v = f.Integer("seed")) {
+    if (*v < 0) f.Fail("seed", "must not be negative");
+    s.seed = static_cast<std::uint64_t>(*v);
+  }
+  if (auto v = f.Bool("predict")) s.predict = *v;
+  if (auto v = f.Integer("threads")) {
+    if (*v < 1 || *v > limits.max_threads) f.Fail("threads", "must be in [1, " + std::to_string(limits.max_threads) + "]");
+    s.threads = static_cast<int>(*v);
+  }
+  if (auto v = f.Number("resolution_meters")) {
+    if (*v < 0.01 || *v > 1.0) f.Fail("resolution_meters", "must be in [0.01, 1]");
+    s.resolution = *v;
+  }
+  if (auto v = f.Number("linear_update_meters")) {
+    if (*v < 0.0 || *v > 10.0) f.Fail("linear_update_meters", "must be in [0, 10]");
+    s.linear_update = *v;
+  }
+  if (auto v = f.Number("angular_update_radians")) {
+    if (*v < 0.0 || *v > 3.2) f.Fail("angular_update_radians", "must be in [0, 3.2]");
+    s.angular_update = *v;
+  }
+  if (auto v = f.Number("resample_threshold")) {
+    if (*v <= 0.0 || *v > 1.0) f.Fail("resample_threshold", "must be in (0, 1]");
+    s.resample_threshold = *v;
+  }
+  if (const nlohmann::json* p = f.Object("predictor")) s.predictor_json = p->dump();
+  f.RejectUnknown();
+  return s;
+}
+
+nlohmann::json SessionSettingsToJson(const SessionSettings& s) {
+  return {{"particles", s.particles},
+          {"seed", s.seed},
+          {"predict", s.predict},
+          {"threads", s.threads},
+          {"resolution_meters", s.resolution},
+          {"linear_update_meters", s.linear_update},
+          {"angular_update_radians", s.angular_update},
+          {"resample_threshold", s.resample_threshold},
+          {"predictor", nlohmann::json::parse(s.predictor_json, nullptr, false).is_object()
+                            ? nlohmann::json::parse(s.predictor_json)
+                            : nlohmann::json::object()}};
+}
+
+LaserGeometry ParseLaserGeometry(const nlohmann::json& json, const SettingsLimits& limits, const std::string& where) {
+  JsonFields f(json, where);
+  LaserGeometry l;
+  l.angle_min = f.RequiredNumber("angle_min");
+  l.angle_increment = f.RequiredNumber("angle_increment");
+  const std::int64_t beams = f.RequiredInteger("beams");
+  l.max_range = f.RequiredNumber("max_range");
+  l.min_range = f.NumberOr("min_range", 0.0);
+  if (const nlohmann::json* offset = f.Object("offset")) {
+    JsonFields o(*offset, where + ".offset");
+    l.offset_x = o.NumberOr("x", 0.0);
+    l.offset_y = o.NumberOr("y", 0.0);
+    l.offset_theta = o.NumberOr("theta", 0.0);
+    o.RejectUnknown();
+  }
+  f.RejectUnknown();
+  if (beams < 1 || beams > limits.max_beams) f.Fail("beams", "must be in [1, " + std::to_string(limits.max_beams) + "]");
+  l.beams = static_cast<int>(beams);
+  if (l.angle_increment == 0.0 || std::abs(l.angle_increment) > 1.0) f.Fail("angle_increment", "must be non-zero and at most 1 rad");
+  if (std::abs(l.angle_min) > 7.0) f.Fail("angle_min", "must be in [-7, 7] rad");
+  if (l.max_range <= 0.0 || l.max_range > 1000.0) f.Fail("max_range", "must be in (0, 1000] m");
+  if (l.min_range < 0.0 || l.min_range >= l.max_range) f.Fail("min_range", "must be in [0, max_range)");
+  return l;
+}
+
+nlohmann::json LaserGeometryToJson(const LaserGeometry& l) {
+  return {{"angle_min", l.angle_min},
+          {"angle_increment", l.angle_increment},
+          {"beams", l.beams},
+          {"max_range", l.max_range},
+          {"min_range", l.min_range},
+          {"offset", {{"x", l.offset_x}, {"y", l.offset_y}, {"theta", l.offset_theta}}}};
+}
+
+}  // namespace pslam::server

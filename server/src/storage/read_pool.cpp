@@ -1,0 +1,30 @@
+#include "storage/read_pool.hpp"
+
+namespace pslam::server {
+namespace {
+constexpr std::size_t kMaxIdle = 8;
+}  // namespace
+
+std::unique_ptr<ReadPool::Lease> ReadPool::Acquire() {
+  std::unique_ptr<Database> db;
+  {
+    std::lock_guard lock(mutex_);
+    if (!idle_.empty()) {
+      db = std::move(idle_.back());
+      idle_.pop_back();
+    }
+  }
+  if (!db) {
+    db = std::make_unique<Database>(Database::Open(path_, Database::Mode::kReadWrite));
+    // Read-write so WAL shared memory works in every case, but refusing writes: readers only read.
+    db->Exec("PRAGMA query_only = 1");
+  }
+  return std::make_unique<Lease>(*this, std::move(db));
+}
+
+void ReadPool::Release(std::unique_ptr<Database> db) {
+  std::lock_guard lock(mutex_);
+  if (idle_.size() < kMaxIdle) idle_.push_back(std::move(db));
+}
+
+}  // namespace pslam::server

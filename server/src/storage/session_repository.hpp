@@ -1,0 +1,58 @@
+#pragma once
+// The only place with SQL text. Every value is a bound parameter; filters build their WHERE
+// clause from fixed fragments and bind the user's values, so no input ever becomes SQL.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "model/input.hpp"
+#include "storage/records.hpp"
+#include "storage/sqlite.hpp"
+
+namespace pslam::server {
+
+class SessionRepository {
+ public:
+  explicit SessionRepository(Database& db) : db_(db) {}
+
+  // Sessions.
+  void CreateSession(const SessionRow& row);
+  std::optional<SessionRow> GetSession(const std::string& id);
+  SessionPage ListSessions(const SessionFilter& filter);
+  std::vector<std::string> SessionIdsWithStatus(const std::string& status);
+  // Returns false if there is no such session.
+  bool DeleteSession(const std::string& id);
+  void SetStatus(const std::string& id, const std::string& status, double now);
+  void SetMetrics(const std::string& id, const std::string& metrics_json);
+
+  // Raw inputs. InsertInput ignores a seq that is already stored (a resend): exactly once.
+  void InsertInput(const std::string& session_id, const InputRecord& input);
+  std::int64_t LastInputSeq(const std::string& session_id);
+  std::int64_t CountScans(const std::string& session_id);
+  // Inputs with seq > 'after_seq', in order, at most 'limit'.
+  std::vector<InputRecord> LoadInputs(const std::string& session_id, std::int64_t after_seq, int limit);
+
+  // Engine checkpoints and what they wrote.
+  void WriteCheckpoint(const Checkpoint& checkpoint, double now);
+  std::vector<TileRow> LoadTiles(const std::string& session_id);
+  std::optional<TileRow> LoadTile(const std::string& session_id, int tx, int ty);
+  std::vector<TrajectoryRow> LoadTrajectory(const std::string& session_id, std::int64_t from_index, int limit);
+
+  // Hypotheses.
+  HypothesisPage QueryHypotheses(const std::string& session_id, const HypothesisFilter& filter);
+  std::optional<HypothesisRecord> GetHypothesis(const std::string& session_id, std::int64_t id);
+  std::vector<HypothesisStatusRow> HypothesisHistory(const std::string& session_id, std::int64_t id);
+  HypothesisCounts CountHypotheses(const std::string& session_id);
+
+  // Events.
+  void AddEvent(const std::optional<std::string>& session_id, const std::string& kind, const std::string& detail_json,
+                double now);
+  std::vector<EventRow> ListEvents(const std::optional<std::string>& session_id, int limit, int offset);
+
+ private:
+  void UpsertHypothesis(const std::string& session_id, const HypothesisRecord& h, double resolution, double now);
+
+  Database& db_;
+};
+
+}  // namespace pslam::server
