@@ -1,0 +1,193 @@
+#include "agent.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <thread>
+
+#include "common/clock.hpp"
+#include "common/log.hpp"
+#include "drive/path_frames.hpp"
+#include "link/messages.hpp"
+
+namespace pslam::agent {
+namespace {
+
+constexpr double kPollSeconds = 0.05;
+constexpr double kDrivePeriodSeconds = 0.1;        // the controller runs at the SIP rate
+constexpr double kSpoolFullReportPeriod = 10.0;
+
+ScanMessage ToMessage(const LaserScan& scan) {
+  ScanMessage m;
+  m.t = scan.timestamp;
+  m.odom = scan.odometry;
+  m.ranges.resize(scan.ranges.size());
+  for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
+    // The wire marks "no return" explicitly; max-range readings and invalid values are not hits.
+    m.ranges[i] = scan.IsReturn(i) ? scan.ranges[i] : std::numeric_limits<float>::quiet_NaN();
+  }
+  return m;
+}
+
+}  // namespace
+
+Agent::Agent(AgentOptions options, std::unique_ptr<ScanSource> source)
+    : options_(std::move(options)), source_(std::move(source)), follower_(options_.follower), safety_(options_.safety) {
+  SpoolOptions spool;
+  spool.directory = options_.spool_dir;
+  spool.max_bytes = static_cast<std::uint64_t>(options_.spool_max_mb * 1024 * 1024);
+  spool.segment_bytes = std::min<std::uint64_t>(spool.segment_bytes, std::max<std::uint64_t>(spool.max_bytes / 8, 4096));
+  spool_ = std::make_unique<Spool>(spool);
+
+  ServerLinkOptions link;
+  link.host = options_.server_host;
+  link.port = options_.server_port;
+  link.token = options_.token;
+  link.binary_scans = options_.binary_scans;
+  link.session_file = std::filesystem::path(options_.spool_dir) / "session.json";
+  HelloMessage hello;
+  hello.robot_id = options_.robot_id;
+  hello.session_name = options_.session_name;
+  hello.laser = source_->laser();
+  link_ = std::make_unique<ServerLink>(link, *spool_, hello);
+}
+
+Agent::~Agent() {
+  if (link_) link_->Stop();
+}
+
+void Agent::Append(const std::vector<std::uint8_t>& payload, const std::atomic<bool>& stop) {
+  if (source_->can_wait()) {
+    // A replay loses nothing: wait for acknowledgements to make room.
+    bool reported = false;
+    while (!spool_->WouldFit(payload.size()) && !stop && !link_->refusal()) {
+      if (!reported) PSLAM_LOG(kInfo) << "spool full: replay paused until the server acknowledges";
+      reported = true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
+  if (spool_->Append(payload)) {
+    if (spool_full_since_ >= 0) {
+      PSLAM_LOG(kInfo) << "spool has room again; " << stats_.dropped_spool_full << " message(s) were lost while it was full";
+      spool_full_since_ = -1.0;
+    }
+    link_->Notify();
+    return;
+  }
+  ++stats_.dropped_spool_full;
+  const double now = AgentClock::Now();
+  if (spool_full_since_ < 0 || now - last_spool_full_report_ >= kSpoolFullReportPeriod) {
+    if (spool_full_since_ < 0) spool_full_since_ = now;
+    last_spool_full_report_ = now;
+    const SpoolStats s = spool_->stats();
+    PSLAM_LOG(kError) << "SPOOL FULL: " << s.bytes / (1024 * 1024) << " of " << s.max_bytes / (1024 * 1024) << " MB hold "
+                      << s.unacked_records << " unacknowledged message(s); the server has not acknowledged for "
+                      << now - link_->status().last_server_message_time << " s; NEW SCANS ARE BEING DROPPED ("
+                      << stats_.dropped_spool_full << " so far). Raise --spool-max-mb or restore the link.";
+  }
+}
+
+void Agent::Enqueue(const OdomMessage& odom) { Append(EncodeRecord(odom), *stop_); }
+void Agent::Enqueue(const ScanMessage& scan) { Append(EncodeRecord(scan), *stop_); }
+
+void Agent::DriveTick(double now) {
+  if (!options_.drive || !source_->can_drive()) return;
+  if (auto target = link_->TakeTarget()) {
+    ++stats_.targets;
+    if (latest_odometry_) {
+      follower_.SetPath(MapPathToOdometry(target->path, target->pose, latest_odometry_->pose));
+      path_active_ = true;
+      PSLAM_LOG(kInfo) << "new target (" << target->target_x << ", " << target->target_y << ") with "
+                       << target->path.size() << " waypoint(s)";
+    }
+  }
+  VelocityCommand wanted;
+  if (latest_odometry_ && path_active_) {
+    const FollowerOutput out = follower_.Update(latest_odometry_->pose);
+    wanted = {out.command.linear, out.command.angular};
+    if (out.goal_reached) {
+      path_active_ = false;
+      PSLAM_LOG(kInfo) << "target reached";
+    }
+  }
+  const SafetyDecision decision = safety_.Filter(wanted, now, link_->status().last_server_message_time);
+  if (decision.reason != stats_.stop_reason) {
+    if (decision.reason != StopReason::kNone && (wanted.v != 0 || wanted.w != 0 || decision.reason == StopReason::kObstacle)) {
+      PSLAM_LOG(kWarning) << "robot stopped: " << ToString(decision.reason);
+    } else if (decision.reason == StopReason::kNone && stats_.stop_reason != StopReason::kNone) {
+      PSLAM_LOG(kInfo) << "driving resumed";
+    }
+    stats_.stop_reason = decision.reason;
+  }
+  source_->Drive(decision.command);
+  last_command_ = decision.command;
+}
+
+void Agent::LogStatus(double now) {
+  const SpoolStats s = spool_->stats();
+  const LinkStatus l = link_->status();
+  static constexpr const char* kStates[] = {"disconnected", "connecting", "streaming", "REFUSED"};
+  PSLAM_LOG(kInfo) << "status: " << stats_.scans << " scans, " << stats_.odometry << " odometry; link "
+                   << kStates[static_cast<int>(l.state)] << ", acked " << l.acked_wire_seq << ", sent " << l.sent
+                   << " (" << l.resent << " resent); spool " << s.unacked_records << " unacked, " << s.bytes / 1024
+                   << " KiB" << (stats_.dropped_spool_full ? ", " + std::to_string(stats_.dropped_spool_full) + " DROPPED (full)" : "")
+                   << (source_->StatsLine().empty() ? "" : "; " + source_->StatsLine());
+  last_status_ = now;
+}
+
+int Agent::Run(const std::atomic<bool>& stop) {
+  stop_ = &stop;
+  PSLAM_LOG(kInfo) << "source: " << source_->description() << "; server " << options_.server_host << ":"
+                   << options_.server_port << "; spool " << options_.spool_dir;
+  const SpoolRecovery& r = spool_->recovery();
+  if (r.records > 0) PSLAM_LOG(kInfo) << "spool: " << r.records << " record(s) kept from the previous run";
+  link_->Start();
+  last_status_ = AgentClock::Now();
+  bool replay_done_reported = false;
+  int exit_code = kExitOk;
+  while (!stop) {
+    if (const auto refusal = link_->refusal()) {
+      PSLAM_LOG(kError) << "giving up: " << *refusal;
+      exit_code = kExitRefused;
+      break;
+    }
+    auto event = source_->Next(kPollSeconds);
+    const double now = AgentClock::Now();
+    if (event) {
+      if (const auto* odom = std::get_if<OdometryReading>(&*event)) {
+        ++stats_.odometry;
+        latest_odometry_ = *odom;
+        Enqueue(OdomMessage{odom->timestamp, odom->pose.x, odom->pose.y, odom->pose.theta,
+                            odom->translational_velocity, odom->rotational_velocity});
+      } else {
+        const auto& scan = std::get<LaserScan>(*event);
+        ++stats_.scans;
+        safety_.OnScan(scan, now);
+        Enqueue(ToMessage(scan));
+      }
+    } else if (source_->finished()) {
+      if (spool_->empty_of_unacked()) {
+        PSLAM_LOG(kInfo) << "replay finished and fully acknowledged";
+        break;
+      }
+      if (!replay_done_reported) {
+        PSLAM_LOG(kInfo) << "replay finished; waiting for the server to acknowledge " << spool_->stats().unacked_records
+                         << " message(s)";
+        replay_done_reported = true;
+      }
+    }
+    if (now - last_drive_tick_ >= kDrivePeriodSeconds) {
+      DriveTick(now);
+      last_drive_tick_ = now;
+    }
+    if (now - last_status_ >= options_.status_period_s) LogStatus(now);
+  }
+  if (source_->can_drive()) source_->Drive({});
+  source_->Shutdown();
+  spool_->Sync();
+  link_->Stop();
+  LogStatus(AgentClock::Now());
+  return exit_code;
+}
+
+}  // namespace pslam::agent

@@ -1,0 +1,124 @@
+// End to end against the real pslam-server binary (built by this project; its path comes from
+// CMake as PSLAM_SERVER_BINARY): an Intel log slice streamed by the agent, the server killed with
+// SIGKILL mid-stream and restarted on the same port and data directory, and every scan stored
+// exactly once.
+#ifdef PSLAM_SERVER_BINARY
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <boost/asio.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "agent.hpp"
+#include "server/support/server_process.hpp"
+#include "sources/log_source.hpp"
+#include "temp_dir.hpp"
+#include "testing/shared_data.hpp"
+#include "wait_for.hpp"
+
+namespace pslam::agent {
+namespace {
+
+using server::testing::ServerProcess;
+using testing::TempDir;
+using testing::WaitFor;
+
+nlohmann::json GetJson(unsigned short port, const std::string& target) {
+  namespace beast = boost::beast;
+  namespace http = beast::http;
+  boost::asio::io_context ioc;
+  beast::tcp_stream stream(ioc);
+  stream.connect(boost::asio::ip::tcp::endpoint(boost::asio::ip::make_address("127.0.0.1"), port));
+  http::request<http::empty_body> req{http::verb::get, target, 11};
+  req.set(http::field::host, "127.0.0.1");
+  req.set(http::field::authorization, "Bearer viewer-secret-1");
+  http::write(stream, req);
+  beast::flat_buffer buffer;
+  http::response<http::string_body> res;
+  http::read(stream, buffer, res);
+  if (res.result_int() != 200) throw std::runtime_error(target + ": HTTP " + std::to_string(res.result_int()) + " " + res.body());
+  return nlohmann::json::parse(res.body());
+}
+
+TEST(RealServerTest, ServerKilledMidStreamAndRestartedStoresEveryScanExactlyOnce) {
+  PSLAM_REQUIRE_DATA(log, "intel/intel.clf");
+  TempDir dir;
+  const auto data = dir.path() / "data";
+  const std::vector<std::string> args = {"--agent-token", "agent-secret-1", "--viewer-token", "viewer-secret-1",
+                                         "--particles", "4", "--predict", "off"};
+  auto server = std::make_unique<ServerProcess>(data, args);
+  const unsigned short port = server->port();
+
+  constexpr std::size_t kScans = 300;
+  AgentOptions o;
+  o.server_host = "127.0.0.1";
+  o.server_port = std::to_string(port);
+  o.token = "agent-secret-1";
+  o.spool_dir = (dir.path() / "spool").string();
+  o.status_period_s = 2.0;
+  o.source = SourceKind::kLog;
+  o.rate = 20.0;
+  Agent agent(o, std::make_unique<LogSource>(LogSourceOptions{log.string(), o.rate, kScans}));
+  std::atomic<bool> stop{false};
+  int exit_code = -1;
+  std::thread runner([&] { exit_code = agent.Run(stop); });
+
+  ASSERT_TRUE(WaitFor([&] { return agent.link_status().acked_wire_seq > 150; }, 30.0));
+  server->Kill9();
+  std::this_thread::sleep_for(std::chrono::milliseconds(1000));  // the agent keeps replaying into its spool
+  auto restart_args = args;
+  restart_args.insert(restart_args.end(), {"--listen", "127.0.0.1:" + std::to_string(port)});
+  server = std::make_unique<ServerProcess>(data, restart_args);
+  ASSERT_EQ(server->port(), port);
+
+  const bool finished = WaitFor([&] { return exit_code != -1; }, 90.0);
+  if (!finished) stop = true;
+  runner.join();
+  ASSERT_TRUE(finished) << "the agent did not get everything acknowledged";
+  EXPECT_EQ(exit_code, kExitOk);
+  const LinkStatus link = agent.link_status();
+  EXPECT_GE(link.connections, 2u);
+
+  const SpoolStats spool = agent.spool_stats();
+  // The filter runs behind the (durable) acks: wait until it has processed everything stored.
+  nlohmann::json stats;
+  WaitFor(
+      [&] {
+        stats = GetJson(port, "/api/sessions/" + link.session_id + "/stats");
+        return stats["filter"]["processed_seq"] == stats["ingest"]["received_seq"];
+      },
+      60.0);
+  EXPECT_EQ(stats["ingest"]["received_seq"].get<std::uint64_t>(), link.acked_wire_seq);
+  EXPECT_EQ(stats["filter"]["processed_seq"], stats["ingest"]["received_seq"]);
+  EXPECT_EQ(stats["filter"]["scans"].get<std::uint64_t>(), kScans);  // exactly once: none lost, none doubled
+  const auto session = GetJson(port, "/api/sessions/" + link.session_id);
+  EXPECT_EQ(session["last_seq"].get<std::uint64_t>(), link.acked_wire_seq);
+  EXPECT_EQ(link.acked_wire_seq, spool.next_seq - 1);  // one session from seq 1: wire seq = spool seq
+}
+
+TEST(RealServerTest, RefusedTokenIsReportedClearly) {
+  TempDir dir;
+  ServerProcess server(dir.path() / "data", {"--agent-token", "agent-secret-1"});
+  Spool spool(SpoolOptions{dir.path() / "spool"});
+  ServerLinkOptions o;
+  o.host = "127.0.0.1";
+  o.port = std::to_string(server.port());
+  o.token = "wrong";
+  HelloMessage hello;
+  hello.robot_id = "test";
+  hello.laser = {-1.5707963, 0.0174533, 181, 8.0, 0.0, Pose2D()};
+  ServerLink link(o, spool, hello);
+  link.Start();
+  ASSERT_TRUE(WaitFor([&] { return link.refusal().has_value(); }, 10.0));
+  EXPECT_NE(link.refusal()->find("token"), std::string::npos) << *link.refusal();
+  link.Stop();
+}
+
+}  // namespace
+}  // namespace pslam::agent
+
+#endif  // PSLAM_SERVER_BINARY
