@@ -11,7 +11,10 @@ namespace {
 
 TEST(MotionModel, SamplesCentreOnTheMotionWithSpreadGrowingWithDistance) {
   std::mt19937_64 rng(7);
-  const MotionNoise noise;
+  const MotionNoise noise{.rotation_per_rotation = 0.05,
+                          .rotation_per_translation = 0.02,
+                          .translation_per_translation = 0.03,
+                          .translation_per_rotation = 0.01};
   auto spread = [&](const Pose2D& delta, double* mean_x) {
     double sx = 0, sxx = 0;
     const int n = 20000;
@@ -36,7 +39,7 @@ TEST(MotionModel, SamplesCentreOnTheMotionWithSpreadGrowingWithDistance) {
 TEST(MotionModel, PureRotationStaysInPlace) {
   std::mt19937_64 rng(3);
   for (int i = 0; i < 100; ++i) {
-    const Pose2D p = SampleMotion(Pose2D(0, 0, 1.0), MotionNoise{}, rng);
+    const Pose2D p = SampleMotion(Pose2D(0, 0, 1.0), MotionNoise{.rotation_per_rotation = 0.1}, rng);
     EXPECT_LT(std::hypot(p.x, p.y), 0.1);
     EXPECT_NEAR(p.theta, 1.0, 0.3);
   }

@@ -147,9 +147,10 @@ TEST(SessionRepositoryTest, HypothesesRoundTripWithHistoryAndFilters) {
   f.bbox = std::array<double, 4>{-5, -5, -4, -4};
   EXPECT_EQ(repo.QueryHypotheses("s-1", f).total, 0);
   const auto counts = repo.CountHypotheses("s-1");
-  EXPECT_EQ(counts.made, 1);
-  EXPECT_EQ(counts.confirmed, 1);
   EXPECT_EQ(counts.accepted, 1);
+  EXPECT_EQ(counts.confirmed, 1);
+  EXPECT_EQ(counts.pending, 0);
+  EXPECT_EQ(counts.refuted, 0);
 }
 
 TEST(StorageWriterTest, CommitsBeforeCallingBackAndIsolatesFailingJobs) {

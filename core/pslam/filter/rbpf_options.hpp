@@ -40,10 +40,7 @@ struct RbpfOptions {
   ScanMatchOptions tracking_match{.coarsest_level = 2};
   ScanMatchOptions particle_match{.coarsest_level = 1};
   LikelihoodOptions likelihood;
-  MotionNoise motion{.rotation_per_rotation = 0.05,
-                     .rotation_per_translation = 0.02,
-                     .translation_per_translation = 0.03,
-                     .translation_per_rotation = 0.01};
+  MotionNoise motion;
 };
 
 }  // namespace pslam

@@ -190,6 +190,13 @@ EngineStats SessionEngine::CurrentStats() const {
   s.resamplings = f.resamplings;
   s.neff = f.neff;
   s.particles = pipeline_->started() ? pipeline_->particle_count() : settings_.particles;
+  s.updates_using_predictions = f.updates_using_predictions;
+  const PSlamStats p = pipeline_->pslam_stats();
+  s.targets = p.targets;
+  s.predictions_made = p.predictions_made;
+  s.hypotheses = p.hypotheses;
+  s.prediction_ms_mean = p.outcomes.predictions ? p.outcomes.total_ms / static_cast<double>(p.outcomes.predictions) : 0.0;
+  s.prediction_ms_max = p.max_prediction_ms;
   const SteadyTime now = SteadyNow();
   std::size_t in_window = 0;
   for (auto it = recent_scans_.rbegin(); it != recent_scans_.rend(); ++it) {

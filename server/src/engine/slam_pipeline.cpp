@@ -1,6 +1,19 @@
 #include "engine/slam_pipeline.hpp"
 
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+#include "pslam/explore/explorer.hpp"
+#include "pslam/explore/frontier.hpp"
+
 namespace pslam::server {
+namespace {
+
+// Re-plan at least this often (input time), and whenever the robot is this close to its target.
+constexpr double kReplanSeconds = 5.0;
+constexpr double kTargetReachedMetres = 0.6;
+
+}  // namespace
 
 LaserScan ToLaserScan(const InputRecord& input, const LaserGeometry& laser) {
   LaserScan scan;
@@ -16,35 +29,116 @@ LaserScan ToLaserScan(const InputRecord& input, const LaserGeometry& laser) {
   return scan;
 }
 
-RbpfOptions ToRbpfOptions(const SessionSettings& settings) {
-  RbpfOptions options;
-  options.particles = settings.particles;
-  options.seed = settings.seed;
-  options.threads = settings.threads;
-  options.resolution = settings.resolution;
-  options.linear_update = settings.linear_update;
-  options.angular_update = settings.angular_update;
-  options.resample_threshold = settings.resample_threshold;
-  return options;
+PSlamOptions ToPSlamOptions(const SessionSettings& settings) {
+  PSlamOptions o;
+  RbpfOptions& f = o.filter;
+  f.particles = settings.particles;
+  f.seed = settings.seed;
+  f.threads = settings.threads;
+  f.resolution = settings.resolution;
+  f.linear_update = settings.linear_update;
+  f.angular_update = settings.angular_update;
+  f.resample_threshold = settings.resample_threshold;
+  o.predict = settings.predict;
+  o.heading_targets = !settings.plan_targets;
+  // Predictor tunables arrive as a JSON object; unknown keys are errors, not silent defaults.
+  const nlohmann::json p = nlohmann::json::parse(settings.predictor_json.empty() ? "{}" : settings.predictor_json);
+  for (const auto& [key, value] : p.items()) {
+    if (key == "similarity_threshold") o.predictor.similarity_threshold = value.get<double>();
+    else if (key == "prediction_range") o.predictor.region_size_m = value.get<double>();
+    else if (key == "recovery") f.recovery = value.get<bool>();
+    else if (key == "hit_ratio_threshold") f.hit_ratio_threshold = value.get<double>();
+    else throw std::invalid_argument("unknown predictor setting '" + key + "'");
+  }
+  if (const auto problem = ValidatePredictorOptions(o.predictor)) throw std::invalid_argument(*problem);
+  return o;
 }
 
 SlamPipeline::SlamPipeline(const SessionSettings& settings, const LaserGeometry& laser)
-    : settings_(settings), laser_(laser), filter_(ToRbpfOptions(settings)) {}
+    : settings_(settings), laser_(laser), slam_(ToPSlamOptions(settings)) {}
+
+HypothesisRecord SlamPipeline::ToRecord(const Hypothesis& h) const {
+  HypothesisRecord r;
+  r.id = h.id;
+  r.time = h.time;
+  r.target_cell = {h.target_cell.x(), h.target_cell.y()};
+  r.reference_cell = {h.reference_cell.x(), h.reference_cell.y()};
+  r.theta = h.theta;
+  r.translation_x = h.translation.x();
+  r.translation_y = h.translation.y();
+  r.psi = h.psi;
+  r.area = h.area_m2;
+  r.cells.reserve(h.cells.size());
+  for (const HypothesisCell& c : h.cells) r.cells.push_back({c.cell.x(), c.cell.y(), c.occupied ? 0.95f : 0.12f});
+  r.status = StatusName(h.status);
+  r.hit_ratio = std::isnan(h.hit_ratio) ? 0.0 : h.hit_ratio;
+  r.psi_observed = std::isnan(h.psi_observed) ? 0.0 : h.psi_observed;
+  return r;
+}
 
 PipelineStep SlamPipeline::Add(const InputRecord& input) {
   PipelineStep step;
-  // Odometry messages are stored for replay and for the predictor's motion cues; the filter takes
-  // the odometry that each scan carries (interpolated by the agent to the scan time).
+  // Odometry messages are stored for replay; the filter takes the odometry that each scan carries
+  // (interpolated by the agent to the scan time).
   if (input.kind != InputKind::kScan) return step;
   step.scan = true;
-  step.filter = filter_.AddScan(ToLaserScan(input, laser_));
+  const std::size_t known = slam_.hypotheses().size();
+  PSlamStep s = slam_.AddScan(ToLaserScan(input, laser_));
+  step.filter = s.filter;
+  // New hypotheses (possibly taken from the predictor during this scan) and changed ones.
+  for (std::size_t i = known; i < slam_.hypotheses().size(); ++i) s.changed_hypotheses.push_back(slam_.hypotheses()[i].id);
+  for (const int id : s.changed_hypotheses) {
+    for (const Hypothesis& h : slam_.hypotheses()) {
+      if (h.id != id) continue;
+      HypothesisRecord record = ToRecord(h);
+      const auto [it, inserted] = record_index_.try_emplace(id, hypotheses_.size());
+      if (inserted) hypotheses_.push_back(record);
+      else hypotheses_[it->second] = record;
+      step.hypotheses_changed.push_back(std::move(record));
+    }
+  }
+  if (settings_.plan_targets && step.filter.updated) step.target = MaybePlan(input.t);
   return step;
+}
+
+std::optional<ExplorationTarget> SlamPipeline::MaybePlan(double time) {
+  const Pose2D pose = slam_.filter().best().pose;
+  const bool near_target = target_ && std::hypot(target_->x - pose.x, target_->y - pose.y) < kTargetReachedMetres;
+  if (!near_target && time - last_plan_time_ < kReplanSeconds) return std::nullopt;
+  last_plan_time_ = time;
+  const OccupancyGrid& map = slam_.filter().best().map;
+  ExploreOptions options;
+  options.mode = settings_.predict ? ExploreMode::kSkipPredicted : ExploreMode::kFullCoverage;
+  ExploreRequest request;
+  request.robot_position = pose.translation();
+  request.covered = [this](const Eigen::Vector2i& cell) { return slam_.IsCovered(cell); };
+  const ExploreDecision decision = SelectNextTarget(map, request, options);
+  frontiers_.clear();
+  for (const FrontierCluster& c : FindFrontierClusters(map, options.frontier)) frontiers_.push_back({c.centroid.x(), c.centroid.y()});
+  if (!decision.target) {
+    // Exploration is done (or blocked): tell the robot to stop by sending an empty path once.
+    if (exploration_done_) return std::nullopt;
+    exploration_done_ = true;
+    target_ = ExplorationTarget{pose.x, pose.y, {}, pose.x, pose.y, pose.theta};
+    return target_;
+  }
+  exploration_done_ = false;
+  slam_.SetTarget(decision.target->cell, time);
+  ExplorationTarget t;
+  t.x = decision.target->position.x();
+  t.y = decision.target->position.y();
+  for (const Eigen::Vector2d& p : decision.target->path) t.path.push_back({p.x(), p.y()});
+  t.pose_x = pose.x;
+  t.pose_y = pose.y;
+  t.pose_theta = pose.theta;
+  target_ = t;
+  return target_;
 }
 
 std::vector<Pose2D> SlamPipeline::ParticlePoses() const {
   std::vector<Pose2D> poses;
-  poses.reserve(filter_.particles().size());
-  for (const Particle& p : filter_.particles()) poses.push_back(p.pose);
+  poses.reserve(slam_.filter().particles().size());
+  for (const Particle& p : slam_.filter().particles()) poses.push_back(p.pose);
   return poses;
 }
 

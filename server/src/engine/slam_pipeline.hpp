@@ -1,19 +1,19 @@
 #pragma once
-// The seam between the server and the SLAM core: one session's mapping pipeline, synchronous and
-// single-threaded (SessionEngine runs it on the session's thread). Today it is the particle filter
-// (pslam::Rbpf); the P-SLAM structure predictor plugs in here, behind the same outputs: the
-// hypotheses it adds or updates, frontiers and the next exploration target. Nothing in the network
-// or storage code changes when it does.
+// The seam between the server and the SLAM core: one session's P-SLAM, synchronous and
+// single-threaded (SessionEngine runs it on the session's thread; the structure predictor runs on
+// a worker of its own inside pslam::PSlam). Besides the filter it yields what the live view, the
+// storage and the agent need: hypotheses as they change, frontiers, and the next exploration target
+// with its path (for sessions with a robot to drive; replays infer targets from the heading).
 #include <array>
 #include <cstdint>
-#include <memory>
+#include <map>
 #include <optional>
 #include <vector>
 
 #include "model/hypothesis.hpp"
 #include "model/input.hpp"
 #include "model/session_settings.hpp"
-#include "pslam/filter/rbpf.hpp"
+#include "pslam/slam/pslam.hpp"
 #include "pslam/sensor/laser_scan.hpp"
 
 namespace pslam::server {
@@ -31,7 +31,8 @@ struct PipelineStep {
 // finite (NaN: no return) stay so; the filter treats them as beams without a return.
 LaserScan ToLaserScan(const InputRecord& input, const LaserGeometry& laser);
 
-RbpfOptions ToRbpfOptions(const SessionSettings& settings);
+// P-SLAM options for a session; throws std::invalid_argument on a bad predictor setting.
+PSlamOptions ToPSlamOptions(const SessionSettings& settings);
 
 class SlamPipeline {
  public:
@@ -41,28 +42,33 @@ class SlamPipeline {
 
   PipelineStep Add(const InputRecord& input);
 
-  const OccupancyGrid& map() const { return filter_.best().map; }
-  bool started() const { return !filter_.particles().empty(); }
-  const RbpfStats& filter_stats() const { return filter_.stats(); }
-  int particle_count() const { return static_cast<int>(filter_.particles().size()); }
+  const OccupancyGrid& map() const { return slam_.filter().best().map; }
+  bool started() const { return !slam_.filter().particles().empty(); }
+  const RbpfStats& filter_stats() const { return slam_.filter().stats(); }
+  PSlamStats pslam_stats() const { return slam_.stats(); }
+  int particle_count() const { return static_cast<int>(slam_.filter().particles().size()); }
   std::vector<Pose2D> ParticlePoses() const;
-  std::vector<double> Weights() const { return filter_.Weights(); }
+  std::vector<double> Weights() const { return slam_.filter().Weights(); }
   // The best particle's pose at every scan so far (smoothed: see Rbpf::Trajectory).
-  std::vector<Pose2D> Trajectory() const { return filter_.Trajectory(); }
+  std::vector<Pose2D> Trajectory() const { return slam_.filter().Trajectory(); }
 
-  // P-SLAM outputs. The predictor is not in the core yet, so these stay empty.
-  // TODO(lead): run the structure predictor in Add() when settings.predict is set, and fill these.
   const std::vector<HypothesisRecord>& hypotheses() const { return hypotheses_; }
   const std::vector<std::array<double, 2>>& frontiers() const { return frontiers_; }
   const std::optional<ExplorationTarget>& target() const { return target_; }
 
  private:
+  HypothesisRecord ToRecord(const Hypothesis& h) const;
+  std::optional<ExplorationTarget> MaybePlan(double time);
+
   SessionSettings settings_;
   LaserGeometry laser_;
-  Rbpf filter_;
+  PSlam slam_;
   std::vector<HypothesisRecord> hypotheses_;
+  std::map<int, std::size_t> record_index_;       // hypothesis id -> index in hypotheses_
   std::vector<std::array<double, 2>> frontiers_;
   std::optional<ExplorationTarget> target_;
+  double last_plan_time_ = -1e300;
+  bool exploration_done_ = false;
 };
 
 }  // namespace pslam::server

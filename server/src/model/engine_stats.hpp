@@ -18,6 +18,13 @@ struct EngineStats {
   double step_ms_mean = 0.0;       // filter time per scan, recent mean
   std::size_t queued = 0;          // inputs waiting for the filter
   bool rebuilding = false;         // re-running stored inputs after a restart
+  // P-SLAM
+  std::int64_t targets = 0;             // exploration targets set (each asks for a prediction)
+  std::int64_t predictions_made = 0;    // predictions finished, with or without a hypothesis
+  std::int64_t hypotheses = 0;          // predictions that became hypotheses (Psi above threshold)
+  double prediction_ms_mean = 0.0;
+  double prediction_ms_max = 0.0;
+  std::int64_t updates_using_predictions = 0;  // filter updates whose weights used hypotheses
 };
 
 }  // namespace pslam::server

@@ -29,9 +29,9 @@ struct HypothesisRecord {
   double psi = 0.0;                 // registration score of the prediction
   double area = 0.0;                // square metres covered by 'cells'
   std::vector<PredictedCell> cells;
-  std::string status = "proposed";  // proposed | accepted | confirmed | rejected | removed
-  double hit_ratio = 0.0;           // share of predicted cells confirmed by later scans
-  double psi_observed = 0.0;        // score of the prediction against the observed map
+  std::string status = "pending";   // pending | confirmed | refuted | expired
+  double hit_ratio = 0.0;           // eq. 23: share of endpoints in the hypothesis that a predicted wall explains
+  double psi_observed = 0.0;        // Psi of the prediction against what was observed later
 };
 
 // The next exploration goal, in the map frame, with the path to it and the robot pose it was

@@ -27,6 +27,9 @@ struct SessionSettings {
   // Settings of the structure predictor as a JSON object, kept opaque here: the predictor layer
   // parses (and validates) it, so adding a predictor tunable does not touch the server.
   std::string predictor_json = "{}";
+  // Not stored: derived from the session's source. Sessions with a robot get exploration targets
+  // planned on the map; replays have no robot to drive, and infer targets from the heading.
+  bool plan_targets = false;
 };
 
 }  // namespace pslam::server

@@ -67,14 +67,21 @@ nlohmann::json EngineStatsToJson(const EngineStats& s) {
           {"latency_ms_max", s.latency_ms_max},
           {"step_ms_mean", s.step_ms_mean},
           {"queued", s.queued},
-          {"rebuilding", s.rebuilding}};
+          {"rebuilding", s.rebuilding},
+          {"targets", s.targets},
+          {"predictions_made", s.predictions_made},
+          {"hypotheses", s.hypotheses},
+          {"prediction_ms_mean", s.prediction_ms_mean},
+          {"prediction_ms_max", s.prediction_ms_max},
+          {"updates_using_predictions", s.updates_using_predictions}};
 }
 
 nlohmann::json HypothesisCountsToJson(const HypothesisCounts& c) {
-  return {{"made", c.made},
-          {"accepted", c.accepted},
+  return {{"accepted", c.accepted},
+          {"pending", c.pending},
           {"confirmed", c.confirmed},
-          {"rejected", c.rejected},
+          {"refuted", c.refuted},
+          {"expired", c.expired},
           {"mean_hit_ratio", c.mean_hit_ratio}};
 }
 

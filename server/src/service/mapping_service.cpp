@@ -91,7 +91,9 @@ std::shared_ptr<SessionRuntime> MappingService::Launch(const SessionRow& row, co
       runtime->progress.notify_all();
     }
   };
-  rt->engine = std::make_unique<SessionEngine>(row.id, settings, laser, options_.timing, std::move(sinks));
+  SessionSettings engine_settings = settings;
+  engine_settings.plan_targets = row.source == "agent";
+  rt->engine = std::make_unique<SessionEngine>(row.id, engine_settings, laser, options_.timing, std::move(sinks));
   {
     std::lock_guard lock(mutex_);
     running_[row.id] = rt;

@@ -71,8 +71,8 @@ struct HypothesisPage {
 };
 
 struct HypothesisCounts {
-  std::int64_t made = 0, accepted = 0, confirmed = 0, rejected = 0;
-  double mean_hit_ratio = 0.0;                // over accepted and confirmed hypotheses
+  std::int64_t accepted = 0, pending = 0, confirmed = 0, refuted = 0, expired = 0;
+  double mean_hit_ratio = 0.0;                // over pending and confirmed hypotheses
 };
 
 struct EventRow {

@@ -415,17 +415,17 @@ std::vector<HypothesisStatusRow> SessionRepository::HypothesisHistory(const std:
 }
 
 HypothesisCounts SessionRepository::CountHypotheses(const std::string& session_id) {
-  // "made" counts every hypothesis ever stored; accepted counts those that reached accepted or
-  // beyond (a confirmed hypothesis was accepted first), as the status history records them.
+  // Every stored hypothesis was accepted (its Psi passed the threshold); pending ones still wait
+  // for the robot to see enough of them to be judged.
   Statement s = db_.Prepare(
       "SELECT COUNT(*), "
-      "COALESCE(SUM(status IN ('accepted', 'confirmed')), 0), COALESCE(SUM(status = 'confirmed'), 0), "
-      "COALESCE(SUM(status = 'rejected'), 0), "
-      "COALESCE(AVG(CASE WHEN status IN ('accepted', 'confirmed') THEN hit_ratio END), 0) "
+      "COALESCE(SUM(status = 'pending'), 0), COALESCE(SUM(status = 'confirmed'), 0), "
+      "COALESCE(SUM(status = 'refuted'), 0), COALESCE(SUM(status = 'expired'), 0), "
+      "COALESCE(AVG(CASE WHEN status IN ('pending', 'confirmed') THEN hit_ratio END), 0) "
       "FROM hypotheses WHERE session_id = ?");
   s.Bind(1, session_id);
   s.Step();
-  return {s.Int64(0), s.Int64(1), s.Int64(2), s.Int64(3), s.Double(4)};
+  return {s.Int64(0), s.Int64(1), s.Int64(2), s.Int64(3), s.Int64(4), s.Double(5)};
 }
 
 void SessionRepository::AddEvent(const std::optional<std::string>& session_id, const std::string& kind,
