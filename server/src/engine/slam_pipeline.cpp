@@ -97,7 +97,9 @@ PipelineStep SlamPipeline::Add(const InputRecord& input) {
       step.hypotheses_changed.push_back(std::move(record));
     }
   }
-  if (settings_.plan_targets && step.filter.updated) step.target = MaybePlan(input.t);
+  // Planned on input time, not on filter updates: a robot that reached its target stands still,
+  // and would never be given the next one.
+  if (settings_.plan_targets) step.target = MaybePlan(input.t);
   return step;
 }
 
