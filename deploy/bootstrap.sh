@@ -5,7 +5,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake ninja-build pkg-config
+  build-essential cmake ninja-build pkg-config curl ca-certificates
   libeigen3-dev nlohmann-json3-dev libsqlite3-dev sqlite3 zlib1g-dev libpng-dev
   libboost-dev libboost-system-dev
   libopencv-dev

@@ -5,3 +5,5 @@ cd "$(dirname "$0")/.."
 deploy/bootstrap.sh --web
 deploy/build.sh
 ctest --test-dir build --output-on-failure --timeout 600
+# The web viewer: npm ci, build, unit tests, browser tests against build/bin/pslam-server.
+web/test.sh

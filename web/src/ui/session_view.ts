@@ -1,0 +1,265 @@
+// One map pane: a session's live client, its viewer with every layer, and the pane's header and
+// toolbar (status, connection, zoom, fit, follow, pause).
+import { SessionClient } from '../net/session_client';
+import { ExplorationLayer } from '../render/exploration_layer';
+import { HypothesisLayer, type HypothesisColoring } from '../render/hypothesis_layer';
+import { MapLayer } from '../render/map_layer';
+import { buildMapPalette } from '../render/palette';
+import { ParticleLayer } from '../render/particle_layer';
+import { RobotLayer, TrajectoryLayer } from '../render/robot_layer';
+import { ScanLayer } from '../render/scan_layer';
+import { Viewer } from '../render/viewer';
+import { h } from './dom';
+import { iconElement, icons } from './icons';
+
+const kPalette = buildMapPalette();
+
+export const kLayerIds = ['map', 'hypotheses', 'exploration', 'trajectory', 'particles', 'scan', 'robot'] as const;
+export type LayerId = (typeof kLayerIds)[number];
+
+export class SessionView {
+  readonly client: SessionClient;
+  readonly viewer: Viewer;
+  readonly element: HTMLElement;
+  readonly hypothesisLayer: HypothesisLayer;
+  name: string;
+  private readonly statusBadge: HTMLElement;
+  private readonly connDot: HTMLElement;
+  private readonly connText: HTMLElement;
+  private readonly titleEl: HTMLElement;
+  private readonly pauseButton: HTMLButtonElement;
+  private readonly followButton: HTMLButtonElement;
+  private readonly notice: HTMLElement;
+  private following = false;
+  // Keep the whole map in view as it grows, until the user moves the camera.
+  private autoFit = true;
+  private fittedBounds = '';
+  private unsubscribe: () => void;
+  onFocus: (() => void) | null = null;
+  onChange: ((kind: string) => void) | null = null;
+
+  constructor(readonly sessionId: string, visibility: Record<string, boolean>, coloring: HypothesisColoring) {
+    this.name = sessionId;
+    this.client = new SessionClient(sessionId);
+    const mapHost = h('div', { class: 'map-host', 'data-session': sessionId });
+    this.titleEl = h('span', { class: 'pane-title' }, sessionId);
+    this.statusBadge = h('span', { class: 'badge' }, '…');
+    this.connDot = h('span', { class: 'conn-dot', title: 'live connection' });
+    this.connText = h('span', { class: 'conn-text' }, 'connecting');
+    const button = (icon: string, title: string, onclick: () => void, extra: Record<string, unknown> = {}) =>
+      h('button', { class: 'icon-button', title, 'aria-label': title, onclick, ...extra }, iconElement(icon));
+    this.pauseButton = button(icons.pause, 'Pause the view (updates are kept and shown on play)', () => this.setPaused(!this.client.isPaused), {
+      'data-action': 'pause',
+    });
+    this.followButton = button(icons.follow, 'Follow the robot', () => this.setFollow(!this.following), { 'data-action': 'follow' });
+    this.notice = h('div', { class: 'pane-notice', hidden: true });
+    this.element = h(
+      'section',
+      { class: 'pane', onpointerdown: () => this.onFocus?.() },
+      h(
+        'header',
+        { class: 'pane-header' },
+        this.connDot,
+        this.titleEl,
+        this.statusBadge,
+        this.connText,
+        h('span', { class: 'spacer' }),
+        button(icons.zoomOut, 'Zoom out', () => this.userZoom(0.8)),
+        button(icons.zoomIn, 'Zoom in', () => this.userZoom(1.25)),
+        button(icons.fit, 'Fit the map and keep it fitted as it grows (double-click the map)', () => this.setAutoFit(true), { 'data-action': 'fit' }),
+        this.followButton,
+        this.pauseButton,
+      ),
+      mapHost,
+    );
+    mapHost.appendChild(this.notice);
+    this.viewer = new Viewer(mapHost);
+    const v = this.viewer;
+    v.addLayer(new MapLayer(this.client.map, kPalette));
+    this.hypothesisLayer = new HypothesisLayer(this.client.hypotheses, this.client.map);
+    this.hypothesisLayer.coloring = coloring;
+    v.addLayer(this.hypothesisLayer);
+    v.addLayer(new ExplorationLayer(this.client.robot));
+    v.addLayer(new TrajectoryLayer(this.client.robot));
+    v.addLayer(new ParticleLayer(this.client.robot));
+    v.addLayer(new ScanLayer(this.client.robot));
+    v.addLayer(new RobotLayer(this.client.robot));
+    for (const id of kLayerIds) v.setLayerVisible(id, visibility[id] !== false);
+    v.fitBox = () => {
+      const known = this.client.map.knownWorldBounds();
+      const p = this.client.robot.pose;
+      if (known) return known;
+      return p ? { minX: p.x - 5, minY: p.y - 5, maxX: p.x + 5, maxY: p.y + 5 } : null;
+    };
+    v.describeCell = (x, y) => {
+      const c = this.client.map.cellAt(x, y);
+      if (c === null) return '';
+      return c === 255 ? 'unknown' : `${c} % occupied`;
+    };
+    v.follow = () => (this.following ? this.client.robot.pose : null);
+    v.onUserCamera = () => this.setAutoFit(false);
+    mapHost.addEventListener('dblclick', () => this.setAutoFit(true));
+    v.onClick = (x, y) => this.pickHypothesis(x, y);
+    this.unsubscribe = this.client.subscribe((e) => {
+      if (e.kind === 'state' || e.kind === 'status' || e.kind === 'snapshot' || e.kind === 'error') this.updateHeader();
+      if (e.kind === 'tile' || e.kind === 'snapshot') this.maybeFit();
+      v.requestRender();
+      this.onChange?.(e.kind);
+    });
+    this.updateHeader();
+  }
+
+  start(): void {
+    this.client.start();
+  }
+
+  setTitle(name: string): void {
+    this.name = name;
+    this.titleEl.textContent = name;
+    this.titleEl.title = `${name} (${this.sessionId})`;
+  }
+
+  setFocused(focused: boolean): void {
+    this.element.classList.toggle('focused', focused);
+  }
+
+  setLayerVisible(id: string, visible: boolean): void {
+    this.viewer.setLayerVisible(id, visible);
+  }
+
+  setColoring(coloring: HypothesisColoring): void {
+    this.hypothesisLayer.coloring = coloring;
+    this.viewer.invalidate();
+  }
+
+  get paused(): boolean {
+    return this.client.isPaused;
+  }
+
+  // Pauses the picture: the stores stop changing (what arrives is held) until play.
+  setPaused(paused: boolean): void {
+    if (paused) this.client.pause();
+    else this.client.resume();
+    this.pauseButton.replaceChildren(iconElement(paused ? icons.play : icons.pause));
+    this.pauseButton.title = paused ? 'Play: show the latest state' : 'Pause the view (updates are kept and shown on play)';
+    this.pauseButton.classList.toggle('active', paused);
+    this.element.classList.toggle('paused', paused);
+    this.viewer.invalidate();
+    this.updateHeader();
+  }
+
+  setAutoFit(on: boolean): void {
+    this.autoFit = on;
+    this.fittedBounds = '';
+    if (on) {
+      this.setFollow(false);
+      this.maybeFit();
+    }
+  }
+
+  private userZoom(factor: number): void {
+    this.setAutoFit(false);
+    this.viewer.zoomBy(factor);
+  }
+
+  // Fits when the map's tile bounds changed (cheap to check per tile) while auto-fit is on.
+  private maybeFit(): void {
+    if (!this.autoFit || this.client.map.loadingSnapshot) return;
+    const b = this.client.map.bounds();
+    const key = b ? `${b.minTx},${b.minTy},${b.maxTx},${b.maxTy}` : this.client.robot.pose ? 'pose' : '';
+    if (!key || key === this.fittedBounds) return;
+    this.fittedBounds = key;
+    this.viewer.fit();
+  }
+
+  setFollow(on: boolean): void {
+    if (on) this.autoFit = false;
+    this.following = on;
+    this.followButton.classList.toggle('active', on);
+    this.viewer.invalidate();
+  }
+
+  // Centres the view on a hypothesis and selects it.
+  focusHypothesis(id: number): void {
+    const store = this.client.hypotheses;
+    store.select(id);
+    const e = store.entries.get(id);
+    if (!e) return;
+    const res = this.client.map.resolution;
+    const c = e.cells;
+    const box = c
+      ? { minX: c.minX * res, minY: c.minY * res, maxX: (c.maxX + 1) * res, maxY: (c.maxY + 1) * res }
+      : { minX: (e.h.target_cell[0] - 40) * res, minY: (e.h.target_cell[1] - 40) * res, maxX: (e.h.target_cell[0] + 40) * res, maxY: (e.h.target_cell[1] + 40) * res };
+    const pad = Math.max(box.maxX - box.minX, box.maxY - box.minY) * 0.6 + 1;
+    this.setFollow(false);
+    this.autoFit = false;
+    this.viewer.camera.fit({ minX: box.minX - pad, minY: box.minY - pad, maxX: box.maxX + pad, maxY: box.maxY + pad });
+    this.viewer.invalidate();
+    this.viewer.onCameraChange?.(this.viewer.camera);
+    this.onChange?.('hypotheses');
+  }
+
+  dispose(): void {
+    this.unsubscribe();
+    this.client.stop();
+    this.viewer.dispose();
+    this.element.remove();
+  }
+
+  private pickHypothesis(x: number, y: number): void {
+    const res = this.client.map.resolution;
+    const cx = Math.floor(x / res), cy = Math.floor(y / res);
+    let best: number | null = null;
+    let bestArea = Infinity;
+    for (const e of this.client.hypotheses.entries.values()) {
+      const c = e.cells;
+      const inside = c
+        ? cx >= c.minX && cx <= c.maxX && cy >= c.minY && cy <= c.maxY
+        : Math.abs(cx - e.h.target_cell[0]) <= 4 && Math.abs(cy - e.h.target_cell[1]) <= 4;
+      const area = c ? (c.maxX - c.minX + 1) * (c.maxY - c.minY + 1) : 1;
+      if (inside && area < bestArea) {
+        best = e.h.id;
+        bestArea = area;
+      }
+    }
+    if (best !== this.client.hypotheses.selected) {
+      this.client.hypotheses.select(best);
+      this.viewer.requestRender();
+      this.onChange?.('hypotheses');
+    }
+  }
+
+  private updateHeader(): void {
+    const c = this.client;
+    const status = c.isPaused ? 'paused' : c.status;
+    this.statusBadge.textContent = status;
+    this.statusBadge.className = `badge status-${status}`;
+    this.connDot.className = `conn-dot conn-${c.connectionState}`;
+    const text: Record<string, string> = {
+      connecting: 'connecting…',
+      open: 'live',
+      reconnecting: 'reconnecting',
+      stopped: 'stopped',
+      failed: 'refused',
+    };
+    // An open socket on a session that no longer runs shows what is stored, not a live stream.
+    const label = c.connectionState === 'open' && c.status !== 'active' && c.status !== 'unknown' ? 'stored' : text[c.connectionState];
+    this.connText.textContent = label ?? c.connectionState;
+    this.connText.title = c.connectionDetail;
+    this.element.dataset.connection = c.connectionState;
+    this.element.dataset.status = c.status;
+    const last = c.errors[c.errors.length - 1];
+    if (c.connectionState === 'reconnecting' || c.connectionState === 'failed') {
+      this.notice.hidden = false;
+      this.notice.textContent = c.connectionState === 'failed' ? `Live view refused: ${c.connectionDetail}` : `Connection lost: ${c.connectionDetail}`;
+      this.notice.className = 'pane-notice warn';
+    } else if (last && Date.now() - last.time < 8000) {
+      this.notice.hidden = false;
+      this.notice.textContent = last.message;
+      this.notice.className = 'pane-notice error';
+      setTimeout(() => this.updateHeader(), 8100);
+    } else {
+      this.notice.hidden = true;
+    }
+  }
+}
