@@ -7,6 +7,8 @@
 #include <optional>
 #include <vector>
 
+#include "pslam/sensor/laser_scan.hpp"
+
 #include "model/checkpoint.hpp"
 #include "model/engine_stats.hpp"
 #include "model/hypothesis.hpp"
@@ -27,6 +29,7 @@ struct LiveFrame {
   std::shared_ptr<const OccupancyGrid> map;          // the best particle's map at this tick
   std::vector<LiveTile> tiles;                       // changed tiles
   std::optional<Pose2D> pose;                        // robot pose estimate
+  std::shared_ptr<const LaserScan> scan;             // the latest scan, drawn at the pose
   std::int64_t trajectory_first_index = 0;           // scan index of trajectory[0]
   std::vector<TrajectoryRow> trajectory;             // poses of the scans since the previous tick
   std::vector<Pose2D> particles;

@@ -149,6 +149,7 @@ void SessionEngine::Process(const InputRecord& input, std::optional<SteadyTime> 
   if (input.seq <= processed_seq_.load()) return;  // already in the filter
   const SteadyTime start = SteadyNow();
   PipelineStep step = pipeline_->Add(input);
+  if (step.scan) last_scan_ = std::make_shared<const LaserScan>(ToLaserScan(input, laser_));
   const double step_ms = SecondsSince(start) * 1e3;
   if (step.scan) {
     online_.push_back({static_cast<std::int64_t>(online_.size()), input.seq, input.t, input.stamp, step.filter.pose.x,
@@ -248,6 +249,7 @@ void SessionEngine::PublishLive() {
   if (!online_.empty()) {
     const TrajectoryRow& last = online_.back();
     frame->pose = Pose2D(last.x, last.y, last.theta);
+    frame->scan = last_scan_;
   }
   frame->trajectory_first_index = static_cast<std::int64_t>(live_trajectory_sent_);
   frame->trajectory.assign(online_.begin() + static_cast<std::ptrdiff_t>(live_trajectory_sent_), online_.end());

@@ -102,6 +102,7 @@ class SessionEngine {
   std::vector<HypothesisRecord> live_hypotheses_, stored_hypotheses_;
   std::vector<std::int64_t> live_removed_;
   std::optional<ExplorationTarget> live_target_;
+  std::shared_ptr<const LaserScan> last_scan_;  // for the live laser layer
   bool live_dirty_ = true;
   bool stored_dirty_ = false;
   SteadyTime last_live_{};

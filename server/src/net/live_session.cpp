@@ -76,6 +76,7 @@ void LiveSession::Deliver(std::shared_ptr<const LiveDelta> delta) {
 void LiveSession::Merge(const LiveDelta& d) {
   for (const auto& [key, frame] : d.tiles) tiles_[key] = frame;
   if (d.pose) pose_ = d.pose;
+  if (d.scan) scan_ = d.scan;
   if (d.stats) stats_ = d.stats;
   if (d.exploration) exploration_ = d.exploration;
   if (d.particles) particles_ = d.particles;
@@ -135,6 +136,8 @@ void LiveSession::Write() {
     return;
   } else if (pose_) {
     next = {std::exchange(pose_, nullptr), false};
+  } else if (scan_) {
+    next = {std::exchange(scan_, nullptr), false};
   } else if (stats_) {
     next = {std::exchange(stats_, nullptr), false};
   } else if (exploration_) {
@@ -177,7 +180,7 @@ void LiveSession::Close(websocket::close_code code, const std::string& reason) {
   if (close_ || ended_) return;
   close_ = websocket::close_reason(code, reason);
   // What is ordered (an error, a status) still goes out; state updates no longer matter.
-  pose_ = stats_ = exploration_ = particles_ = nullptr;
+  pose_ = scan_ = stats_ = exploration_ = particles_ = nullptr;
   trajectory_.clear();
   trajectory_resync_ = false;
   hypotheses_.clear();

@@ -50,7 +50,7 @@ class LiveSession : public LiveViewer, public Closable, public std::enable_share
   // Pending output, in sending order: ordered messages (snapshot, session status), then the
   // latest-state slots, then trajectory, hypotheses and tiles.
   std::deque<LiveMessage> ordered_;
-  Bytes pose_, stats_, exploration_, particles_;
+  Bytes pose_, scan_, stats_, exploration_, particles_;
   std::int64_t trajectory_first_ = 0;
   std::vector<TrajectoryRow> trajectory_;
   bool trajectory_resync_ = false;

@@ -1,5 +1,6 @@
 #include "service/live_codec.hpp"
 
+#include <cmath>
 #include <cstring>
 
 #include "engine/tile_codec.hpp"
@@ -12,6 +13,20 @@ namespace {
 std::string Dump(const nlohmann::json& j) { return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace); }
 
 nlohmann::json PoseJson(const Pose2D& p) { return {{"type", "pose"}, {"x", p.x}, {"y", p.y}, {"theta", p.theta}}; }
+
+// The latest scan for the laser layer; beams without a return are null. Ranges are rounded to
+// centimetres: the viewer only draws them, and the message stays small.
+nlohmann::json ScanJson(const LaserScan& scan, const Pose2D& robot) {
+  nlohmann::json ranges = nlohmann::json::array();
+  for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
+    if (scan.IsReturn(i)) ranges.push_back(std::round(scan.ranges[i] * 100.0) / 100.0);
+    else ranges.push_back(nullptr);
+  }
+  const Pose2D sensor = robot * scan.sensor_offset;
+  return {{"type", "scan"}, {"pose", {{"x", sensor.x}, {"y", sensor.y}, {"theta", sensor.theta}}},
+          {"angle_min", scan.angle_min}, {"angle_increment", scan.angle_increment},
+          {"max_range", scan.max_range}, {"ranges", std::move(ranges)}};
+}
 
 nlohmann::json ParticlesJson(const std::vector<Pose2D>& poses, const std::vector<double>& weights) {
   nlohmann::json list = nlohmann::json::array();
@@ -85,6 +100,7 @@ LiveDelta LiveState::Apply(const LiveFrame& f) {
     pose_ = PoseJson(*f.pose);
     d.pose = MakeBytes(Dump(pose_));
   }
+  if (f.scan && f.pose) d.scan = MakeBytes(Dump(ScanJson(*f.scan, *f.pose)));
   if (!f.particles.empty()) {
     particles_ = ParticlesJson(f.particles, f.weights);
     d.particles = MakeBytes(Dump(particles_));

@@ -33,7 +33,7 @@ struct LiveMessage {
 // What one engine tick changed, encoded. Latest-state fields are null when unchanged.
 struct LiveDelta {
   std::vector<std::pair<TileKey, Bytes>> tiles;
-  Bytes pose, particles, stats, exploration;
+  Bytes pose, scan, particles, stats, exploration;
   std::int64_t trajectory_first_index = 0;
   std::shared_ptr<const std::vector<TrajectoryRow>> trajectory;  // null or non-empty
   std::vector<std::pair<std::int64_t, Bytes>> hypotheses;        // latest message per hypothesis

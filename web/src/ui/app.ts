@@ -56,7 +56,10 @@ export class App {
       replay: (id) => this.replayDialog.open(this.sessionList.sessions, id),
     });
     this.sessionList.onReachability = (ok, detail) => this.setServerState(ok, detail);
-    this.sessionList.onSessions = (sessions) => this.nameViews(sessions);
+    this.sessionList.onSessions = (sessions) => {
+      this.nameViews(sessions);
+      this.openLiveSessionOnArrival(sessions);
+    };
     this.layerPanel = new LayerPanel(
       this.prefs.layers,
       this.prefs.coloring,
@@ -141,6 +144,17 @@ export class App {
   start(): void {
     this.sessionList.start();
     this.route();
+  }
+
+  // An operator who opens the page while a robot maps wants to see it at once: the first time the
+  // session list arrives with nothing chosen in the URL, the newest live session opens.
+  private autoOpened = false;
+  private openLiveSessionOnArrival(sessions: { id: string; running: boolean }[]): void {
+    if (this.autoOpened) return;
+    this.autoOpened = true;
+    if (parseRoute(location.hash).length > 0) return;
+    const live = sessions.find((s) => s.running);
+    if (live) this.navigate([live.id]);
   }
 
   navigate(ids: string[]): void {
