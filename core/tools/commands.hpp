@@ -9,6 +9,10 @@ namespace pslam {
 // `pslam eval`: relative pose error of a trajectory, or KL divergence between two maps.
 int RunEvalCommand(const std::vector<std::string>& args);
 
+// `pslam experiment NAME`: the experiments of the paper's section V (explore, hypotheses,
+// particles, latency); the first argument names the experiment.
+int RunExperimentCommand(const std::vector<std::string>& args);
+
 // `pslam run`: maps a CARMEN log with the particle filter.
 int RunRunCommand(const std::vector<std::string>& args);
 

@@ -11,11 +11,13 @@ int main(int argc, char** argv) {
   const std::string command = argc > 1 ? argv[1] : "";
   if (command == "run") return pslam::RunRunCommand(args);
   if (command == "eval") return pslam::RunEvalCommand(args);
+  if (command == "experiment") return pslam::RunExperimentCommand(args);
   std::fprintf(stderr,
                "usage: pslam COMMAND [options]\n"
                "commands:\n"
                "  run    map a CARMEN log with the particle filter\n"
                "  eval   relative pose error of a trajectory, or KL divergence between two maps\n"
+               "  experiment  the paper's experiments: explore, hypotheses, particles, latency\n"
                "Run 'pslam COMMAND --help' for the options of a command.\n");
   return command.empty() || command == "--help" || command == "-h" ? 0 : 2;
 }

@@ -1,0 +1,195 @@
+#include "pslam/experiment/exploration_run.hpp"
+
+#include <algorithm>
+#include <variant>
+
+namespace pslam {
+namespace {
+
+PSlamOptions WithStartPose(PSlamOptions options, const Pose2D& start) {
+  options.filter.initial_pose = start;
+  options.heading_targets = false;  // the explorer sets the targets
+  return options;
+}
+
+}  // namespace
+
+ExplorationOptions DefaultExplorationOptions() {
+  ExplorationOptions options;
+  options.slam.filter.points.max_usable_range = options.simulator.laser.max_range;
+  // Just short of max_range: the last few centimetres of a miss are where a wall would start.
+  options.slam.filter.points.no_return_free_range = options.simulator.laser.max_range - 0.1;
+  return options;
+}
+
+const char* ExplorationStateName(ExplorationState state) {
+  switch (state) {
+    case ExplorationState::kRunning: return "running";
+    case ExplorationState::kExplored: return "explored";
+    case ExplorationState::kTimeLimit: return "time limit";
+    case ExplorationState::kStuck: return "stuck";
+  }
+  return "unknown";
+}
+
+ExplorationRun::ExplorationRun(World world, const Pose2D& start, const ExplorationOptions& options)
+    : options_(options),
+      simulator_(std::move(world), start, options.simulator),
+      slam_(WithStartPose(options.slam, start)),
+      follower_(options.follower),
+      pose_at_scan_(start),
+      odometry_at_scan_(start) {
+  options_.slam = slam_.options();
+}
+
+ExplorationStep ExplorationRun::Step() {
+  ExplorationStep out;
+  if (done()) return out;
+  // Advance to the next scan. Scans fall due at k / rate, so one period normally brings exactly
+  // one; the loop only guards against rounding.
+  const double period = 1.0 / options_.simulator.scan_rate_hz;
+  bool got_scan = false;
+  while (!got_scan) {
+    StepResult result = simulator_.Step(period);
+    out.collided = out.collided || result.collided;
+    for (SimulatorEvent& event : result.events) {
+      if (last_true_pose_) {
+        summary_.distance_m += (event.true_pose.translation() - last_true_pose_->translation()).norm();
+      }
+      last_true_pose_ = event.true_pose;
+      if (const auto* scan = std::get_if<LaserScan>(&event.data)) {
+        AddScan(event, *scan, out);
+        got_scan = true;
+      }
+      out.events.push_back(std::move(event));
+    }
+  }
+  out.estimated_pose = pose_at_scan_;
+  out.command = Steer(out);
+  simulator_.SetCommand({out.command.linear, out.command.angular});
+  if (!done() && time() >= options_.time_limit_s) state_ = ExplorationState::kTimeLimit;
+  if (done()) simulator_.SetCommand({});
+  return out;
+}
+
+void ExplorationRun::Run() {
+  while (!done()) Step();
+}
+
+void ExplorationRun::AddScan(const SimulatorEvent& event, const LaserScan& scan, ExplorationStep& out) {
+  out.slam = slam_.AddScan(scan);
+  last_scan_ = scan;
+  pose_at_scan_ = out.slam.filter.pose;
+  odometry_at_scan_ = scan.odometry;
+  const double error = (pose_at_scan_.translation() - event.true_pose.translation()).norm();
+  ++summary_.scans;
+  position_error_sum_ += error;
+  summary_.max_position_error_m = std::max(summary_.max_position_error_m, error);
+  summary_.final_position_error_m = error;
+  map_to_world_ = event.true_pose * pose_at_scan_.inverse();
+  CollectNewHypotheses();
+}
+
+void ExplorationRun::CollectNewHypotheses() {
+  // P-SLAM appends a hypothesis with its cells already validated against the best map, and
+  // shrinks them only at later filter updates, so a copy taken now is the hypothesis as accepted.
+  const std::vector<Hypothesis>& all = slam_.hypotheses();
+  for (std::size_t i = accepted_.size(); i < all.size(); ++i) {
+    accepted_.push_back(all[i]);
+    accepted_map_to_world_.push_back(map_to_world_);
+    hypothesis_arrived_ = true;
+  }
+}
+
+Pose2D ExplorationRun::CurrentPoseEstimate() const {
+  return pose_at_scan_ * Between(odometry_at_scan_, simulator_.odometry_pose());
+}
+
+bool ExplorationRun::Plan(const Pose2D& pose) {
+  const bool skip = options_.explore.mode == ExploreMode::kSkipPredicted;
+  for (int round = 0; round <= options_.max_skip_rounds; ++round) {
+    ExploreRequest request;
+    request.robot_position = pose.translation();
+    request.blacklist = blacklist_;
+    if (skip) {
+      request.covered = [this](const Eigen::Vector2i& cell) {
+        if (options_.observed_counts_as_covered && slam_.filter().best().map.IsKnown(cell.x(), cell.y())) return true;
+        return slam_.IsCovered(cell);
+      };
+    }
+    const ExploreDecision decision =
+        skip && options_.plan_on_merged_map ? SelectNextTarget(slam_.MergedMap(), request, options_.explore)
+                                            : SelectNextTarget(slam_.filter().best().map, request, options_.explore);
+    ++summary_.plans;
+    summary_.skipped_clusters = decision.skipped;
+    hypothesis_arrived_ = false;
+    if (decision.done()) {
+      target_.reset();
+      follower_.SetPath({});
+      if (decision.start_blocked && ++blocked_plans_ <= options_.max_blocked_plans) {
+        look_around_until_ = time() + options_.look_around_s;
+      } else {
+        state_ = decision.start_blocked ? ExplorationState::kStuck : ExplorationState::kExplored;
+      }
+      return false;
+    }
+    blocked_plans_ = 0;
+    const bool new_target = !target_ || target_->cell != decision.target->cell;
+    target_ = decision.target;
+    follower_.SetPath(target_->path);
+    next_plan_time_ = time() + options_.replan_period_s;
+    stopped_since_ = -1.0;
+    if (!new_target) return true;
+    ++summary_.targets;
+    slam_.SetTarget(target_->cell, simulator_.time());
+    if (options_.wait_for_predictions) {
+      slam_.FlushPredictions();
+      CollectNewHypotheses();
+    }
+    // A hypothesis for this very target may cover it: then choose again, skipping it.
+    if (!skip || !hypothesis_arrived_) return true;
+  }
+  return true;
+}
+
+DriveCommand ExplorationRun::Steer(ExplorationStep& out) {
+  const double now = time();
+  if (now < look_around_until_) return {0.0, 0.5};  // turn in place so the laser sees around
+  const Pose2D pose = CurrentPoseEstimate();
+  FollowerOutput follow = follower_.Update(pose);
+  const bool held = stopped_since_ >= 0.0 && now - stopped_since_ > options_.stuck_timeout_s;
+  const bool give_up = target_ && (out.collided || held);
+  if (give_up) {
+    blacklist_.push_back(target_->position);
+    ++summary_.given_up;
+  }
+  const bool skip_mode = options_.explore.mode == ExploreMode::kSkipPredicted;
+  const bool replan = !target_ || follow.goal_reached || give_up || now >= next_plan_time_ ||
+                      (skip_mode && hypothesis_arrived_);
+  if (replan) {
+    out.planned = true;
+    if (!Plan(pose)) return {};
+    follow = follower_.Update(pose);
+  }
+  const DriveCommand command =
+      last_scan_ ? ApplyObstacleStop(follow.command, *last_scan_, options_.obstacle_stop) : follow.command;
+  if (command.linear < follow.command.linear) {
+    if (stopped_since_ < 0.0) stopped_since_ = now;
+  } else {
+    stopped_since_ = -1.0;
+  }
+  return command;
+}
+
+ExplorationSummary ExplorationRun::Summary() const {
+  ExplorationSummary s = summary_;
+  s.state = state_;
+  s.time_s = time();
+  s.collisions = simulator_.collision_count();
+  s.hypotheses = static_cast<int>(accepted_.size());
+  s.slam = slam_.stats();
+  s.mean_position_error_m = s.scans > 0 ? position_error_sum_ / s.scans : 0.0;
+  return s;
+}
+
+}  // namespace pslam

@@ -1,0 +1,71 @@
+#include "pslam/experiment/map_similarity.hpp"
+
+#include "pslam/predict/similarity.hpp"
+
+namespace pslam {
+
+double PredictionSimilarity(const std::vector<HypothesisCell>& predicted, const OccupancyGrid& reference,
+                            const SimilarityOptions& options) {
+  // ObservedSimilarity is exactly this comparison with the reference as the "later map".
+  Hypothesis h;
+  h.cells = predicted;
+  return ObservedSimilarity(h, reference, options.states, options.tolerance_cells);
+}
+
+std::vector<HypothesisCell> TransformCells(const std::vector<HypothesisCell>& cells, const Pose2D& transform,
+                                           double resolution) {
+  OccupancyGrid lattice(resolution);  // cell arithmetic, and which target cells are taken
+  std::vector<HypothesisCell> out;
+  out.reserve(cells.size());
+  for (const HypothesisCell& c : cells) {
+    const Eigen::Vector2i moved = lattice.WorldToCell(transform * lattice.CellCenter(c.cell));
+    if (lattice.IsKnown(moved.x(), moved.y())) continue;
+    lattice.MutableAt(moved.x(), moved.y()) = 0;
+    out.push_back({moved, c.occupied});
+  }
+  return out;
+}
+
+std::vector<HypothesisCell> MergedPredictedCells(const PSlam& slam, const std::function<Pose2D(int id)>& to_reference) {
+  const OccupancyGrid& map = slam.filter().best().map;
+  std::vector<HypothesisCell> cells;
+  OccupancyGrid taken(map.resolution());  // a cell predicted by two hypotheses counts once, first wins
+  for (const Hypothesis& h : slam.hypotheses()) {
+    if (h.status != Hypothesis::Status::kPending && h.status != Hypothesis::Status::kConfirmed) continue;
+    std::vector<HypothesisCell> unexplored;
+    for (const HypothesisCell& c : h.cells) {
+      if (!map.IsKnown(c.cell.x(), c.cell.y())) unexplored.push_back(c);
+    }
+    if (to_reference) unexplored = TransformCells(unexplored, to_reference(h.id), map.resolution());
+    for (const HypothesisCell& c : unexplored) {
+      if (taken.IsKnown(c.cell.x(), c.cell.y())) continue;
+      taken.MutableAt(c.cell.x(), c.cell.y()) = 0;
+      cells.push_back(c);
+    }
+  }
+  return cells;
+}
+
+double BuiltMapSimilarity(const OccupancyGrid& built, const OccupancyGrid& reference, const SimilarityOptions& options) {
+  const CellBox box = built.KnownBounds();
+  if (box.empty()) return 0.0;
+  const CellClassifier classify(options.states);
+  const CellRaster built_raster = RasterizeRegion(built, box, classify);
+  CellRaster reference_raster = RasterizeRegion(reference, box, classify);
+  // Only the cells the robot mapped are compared: a map is not blamed for what it never saw.
+  for (std::size_t i = 0; i < built_raster.cells.size(); ++i) {
+    if (!IsExplored(built_raster.cells[i])) reference_raster.cells[i] = CellState::kUnknown;
+  }
+  return Similarity(reference_raster, built_raster, options.tolerance_cells);
+}
+
+double KnownArea(const OccupancyGrid& map) {
+  const CellBox box = map.KnownBounds();
+  std::size_t known = 0;
+  for (int y = box.min.y(); y <= box.max.y(); ++y) {
+    for (int x = box.min.x(); x <= box.max.x(); ++x) known += map.IsKnown(x, y);
+  }
+  return static_cast<double>(known) * map.resolution() * map.resolution();
+}
+
+}  // namespace pslam

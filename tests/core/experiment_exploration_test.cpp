@@ -1,0 +1,153 @@
+// The whole P-SLAM loop in the paper's square maze (ExplorationRun: simulator, particle filter,
+// predictor, explorer, follower): what must hold at every step, and what a short run must achieve.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "pslam/experiment/exploration_run.hpp"
+#include "pslam/experiment/map_similarity.hpp"
+#include "pslam/sim/world.hpp"
+#include "pslam/sim/world_file.hpp"
+
+namespace pslam {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string WorldYaml(const std::string& name) {
+  return (fs::path(__FILE__).parent_path().parent_path().parent_path() / "core" / "worlds" / (name + ".yaml")).string();
+}
+
+// Fewer particles than the default: the checks are about the loop, not the filter's accuracy.
+ExplorationOptions ShortRunOptions(ExploreMode mode, double time_limit_s) {
+  ExplorationOptions options = DefaultExplorationOptions();
+  options.slam.filter.particles = 10;
+  options.slam.predictor.similarity_threshold = 0.6;  // the paper's simulations (Sec. V-A)
+  options.explore.mode = mode;
+  options.time_limit_s = time_limit_s;
+  return options;
+}
+
+// Cells of 'cells' that 'map' has observed.
+int KnownCount(const std::vector<HypothesisCell>& cells, const OccupancyGrid& map) {
+  int known = 0;
+  for (const HypothesisCell& c : cells) known += map.IsKnown(c.cell.x(), c.cell.y());
+  return known;
+}
+
+// Cells known both in a particle's map and in its hypothesis map: predictions that were not given
+// way to what the particle observed.
+int OverlapInParticle(const Particle& p) {
+  int overlap = 0;
+  const CellBox box = p.hypothesis.KnownBounds();
+  for (int y = box.min.y(); y <= box.max.y(); ++y) {
+    for (int x = box.min.x(); x <= box.max.x(); ++x) overlap += p.hypothesis.IsKnown(x, y) && p.map.IsKnown(x, y);
+  }
+  return overlap;
+}
+
+class MazeRunTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const std::optional<Pose2D> start = ReadStartPose(WorldYaml("maze"));
+    ASSERT_TRUE(start.has_value());
+    start_ = *start;
+  }
+  World world_ = LoadWorld(WorldYaml("maze"));
+  Pose2D start_;
+};
+
+TEST_F(MazeRunTest, HypothesesOnlyEverCoverUnexploredCellsAndSomeMatchTheTruth) {
+  ExplorationRun run(world_, start_, ShortRunOptions(ExploreMode::kSkipPredicted, 110.0));
+  int updates = 0, checked = 0;
+  while (!run.done()) {
+    const ExplorationStep step = run.Step();
+    if (!step.slam.filter.updated || ++updates % 4 != 0) continue;
+    ++checked;
+    const OccupancyGrid& best = run.slam().filter().best().map;
+    // V of eq. 20 at the level P-SLAM reports: a pending hypothesis keeps only unexplored cells.
+    for (const Hypothesis& h : run.slam().hypotheses()) {
+      if (h.status != Hypothesis::Status::kPending) continue;
+      ASSERT_EQ(KnownCount(h.cells, best), 0) << "hypothesis " << h.id << " at t = " << run.time();
+    }
+    // ... and at the level that weighs the particles (S2 of eq. 22).
+    for (const Particle& p : run.slam().filter().particles()) ASSERT_EQ(OverlapInParticle(p), 0) << "t = " << run.time();
+  }
+  ASSERT_GT(checked, 10);
+  ASSERT_FALSE(run.accepted_hypotheses().empty()) << "no hypothesis in " << run.time() << " s";
+
+  // The merged map never overrides an observed cell: predictions only fill unknown ones.
+  const OccupancyGrid& best = run.slam().filter().best().map;
+  const OccupancyGrid merged = run.slam().MergedMap();
+  const CellBox box = best.KnownBounds();
+  for (int y = box.min.y(); y <= box.max.y(); ++y) {
+    for (int x = box.min.x(); x <= box.max.x(); ++x) {
+      if (best.IsKnown(x, y)) {
+        ASSERT_EQ(merged.At(x, y), best.At(x, y));
+      }
+    }
+  }
+
+  // Validation removes explored parts: a hypothesis only ever loses cells, and the robot has
+  // explored into some hypothesis, which lost those cells.
+  bool some_shrank = false;
+  for (std::size_t i = 0; i < run.accepted_hypotheses().size(); ++i) {
+    const Hypothesis& original = run.accepted_hypotheses()[i];
+    const Hypothesis& now = run.slam().hypotheses()[i];
+    ASSERT_EQ(original.id, now.id);
+    EXPECT_LE(now.cells.size(), original.cells.size());
+    if (now.cells.size() < original.cells.size()) {
+      some_shrank = true;
+      EXPECT_GT(KnownCount(original.cells, best), 0) << "hypothesis " << now.id << " lost cells nobody observed";
+    }
+  }
+  EXPECT_TRUE(some_shrank);
+
+  // At least one prediction is right about the real maze (Psi >= 0.5 against the true world; the
+  // SLAM map frame is the world frame, since the filter starts at the start pose).
+  const OccupancyGrid truth = world_.ToGrid();
+  double best_psi = 0.0;
+  for (const Hypothesis& h : run.accepted_hypotheses()) best_psi = std::max(best_psi, PredictionSimilarity(h.cells, truth));
+  EXPECT_GE(best_psi, 0.5);
+
+  const ExplorationSummary summary = run.Summary();
+  EXPECT_EQ(summary.collisions, 0u);
+  EXPECT_GT(summary.distance_m, 5.0);
+  EXPECT_LT(summary.mean_position_error_m, 0.3);
+}
+
+TEST_F(MazeRunTest, SameSeedSameRun) {
+  const ExplorationOptions options = ShortRunOptions(ExploreMode::kSkipPredicted, 70.0);
+  ExplorationRun a(world_, start_, options), b(world_, start_, options);
+  a.Run();
+  b.Run();
+  const ExplorationSummary sa = a.Summary(), sb = b.Summary();
+  EXPECT_EQ(sa.scans, sb.scans);
+  EXPECT_EQ(sa.targets, sb.targets);
+  EXPECT_DOUBLE_EQ(sa.distance_m, sb.distance_m);
+  EXPECT_DOUBLE_EQ(sa.mean_position_error_m, sb.mean_position_error_m);
+  ASSERT_EQ(a.accepted_hypotheses().size(), b.accepted_hypotheses().size());
+  for (std::size_t i = 0; i < a.accepted_hypotheses().size(); ++i) {
+    EXPECT_EQ(a.accepted_hypotheses()[i].cells.size(), b.accepted_hypotheses()[i].cells.size());
+  }
+  const Pose2D pa = a.slam().filter().best().pose, pb = b.slam().filter().best().pose;
+  EXPECT_DOUBLE_EQ(pa.x, pb.x);
+  EXPECT_DOUBLE_EQ(pa.y, pb.y);
+}
+
+TEST_F(MazeRunTest, PlainRbpfMakesNoPredictionsAndStopsAtTheTimeLimit) {
+  ExplorationOptions options = ShortRunOptions(ExploreMode::kFullCoverage, 20.0);
+  options.slam.predict = false;
+  ExplorationRun run(world_, start_, options);
+  run.Run();
+  EXPECT_EQ(run.state(), ExplorationState::kTimeLimit);
+  EXPECT_NEAR(run.time(), 20.0, 0.5);
+  EXPECT_TRUE(run.accepted_hypotheses().empty());
+  EXPECT_GT(run.Summary().targets, 0);
+  EXPECT_TRUE(run.Step().events.empty());  // a finished run does nothing
+}
+
+}  // namespace
+}  // namespace pslam
