@@ -26,6 +26,11 @@ TEST(BadInputTest, AgentMessagesAreRefusedOneByOneAndTheSocketStaysUsable) {
   EXPECT_EQ(ErrorCodeAfter(agent, R"({"type":"scan","seq":1})").substr(0, 11), "bad_message");  // before hello
   EXPECT_EQ(ErrorCodeAfter(agent, R"({"type":"hello","version":1,"session":"s-doesnotexist"})").substr(0, 15), "unknown_session");
   EXPECT_EQ(ErrorCodeAfter(agent, R"({"type":"hello","version":2,"laser":{}})").substr(0, 11), "bad_message");
+  nlohmann::json bad_predictor = Hello();
+  bad_predictor["settings"] = {{"predictor", {{"similarity_threshold", 0.9}}}};
+  const std::string predictor_error = ErrorCodeAfter(agent, bad_predictor.dump());
+  EXPECT_EQ(predictor_error.substr(0, 11), "bad_message");
+  EXPECT_NE(predictor_error.find("similarity_threshold"), std::string::npos) << predictor_error;
   agent.SendJson(Hello());
   ASSERT_TRUE(agent.ReadType("welcome"));
 

@@ -1,5 +1,7 @@
 #include "service/settings_codec.hpp"
 
+#include "engine/slam_pipeline.hpp"
+
 #include "service/json_fields.hpp"
 
 namespace pslam::server {
@@ -40,6 +42,13 @@ SessionSettings ParseSessionSettings(const nlohmann::json& json, const SessionSe
   }
   if (const nlohmann::json* p = f.Object("predictor")) s.predictor_json = p->dump();
   f.RejectUnknown();
+  // The engine builds its P-SLAM from these settings; refuse them here, while the client can still
+  // be told, rather than when the session starts.
+  try {
+    ToPSlamOptions(s);
+  } catch (const std::exception& e) {
+    f.Fail("predictor", std::string("is invalid: ") + e.what());
+  }
   return s;
 }
 
