@@ -94,6 +94,18 @@ void HttpSession::OnWrite(bool keep_alive, beast::error_code ec, std::size_t) {
 void HttpSession::Close() {
   beast::error_code ec;
   stream_.socket().shutdown(tcp::socket::shutdown_send, ec);
+  // Lingering close: a client may still be sending a body we refused. Closing now, with its bytes
+  // unread, would reset the connection and could destroy the answer before the client reads it;
+  // read and discard until the client closes too, for a bounded time.
+  stream_.expires_after(std::chrono::seconds(2));
+  Drain();
+}
+
+void HttpSession::Drain() {
+  drain_buffer_.resize(16384);
+  stream_.async_read_some(net::buffer(drain_buffer_), [self = shared_from_this()](beast::error_code ec, std::size_t) {
+    if (!ec) self->Drain();
+  });
 }
 
 }  // namespace pslam::server

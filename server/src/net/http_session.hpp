@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "net/beast.hpp"
 #include "net/server_context.hpp"
@@ -24,6 +25,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void Respond(http::response<http::string_body> res);
   void OnWrite(bool keep_alive, beast::error_code ec, std::size_t bytes);
   void Close();
+  void Drain();
 
   beast::tcp_stream stream_;
   beast::flat_buffer buffer_;
@@ -31,6 +33,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   std::optional<http::request_parser<http::string_body>> parser_;
   std::shared_ptr<http::response<http::string_body>> response_;
   std::string remote_;
+  std::vector<char> drain_buffer_;
 };
 
 }  // namespace pslam::server
