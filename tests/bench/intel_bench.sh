@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Accuracy, speed and memory of `pslam run` on the full Intel log at several particle counts.
 # Usage: tests/bench/intel_bench.sh [PARTICLES...]   (default: 10 30 100 200)
+# PSLAM_RUN_ARGS adds options to `pslam run` (default: --no-predict, the plain RBPF).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 data="${PSLAM_DATA_DIR:-../shared/data}/intel"
@@ -10,7 +11,8 @@ counts=("$@")
 (( ${#counts[@]} )) || counts=(10 30 100 200)
 printf "%-9s %9s %9s %9s %11s %11s %8s\n" particles wall_s peak_MiB scans/s trans_mean rot_mean updates
 for n in "${counts[@]}"; do
-  summary=$(build/bin/pslam run --quiet --log "$data/intel.clf" --particles "$n" --trajectory "$out/t$n.txt")
+  # shellcheck disable=SC2086  # word splitting of the extra options is intended
+  summary=$(build/bin/pslam run --quiet --log "$data/intel.clf" --particles "$n" --trajectory "$out/t$n.txt" ${PSLAM_RUN_ARGS---no-predict})
   rpe=$(build/bin/pslam eval --json --trajectory "$out/t$n.txt" --relations "$data/intel.relations")
   wall=$(awk '/^wall time/ {print $3}' <<<"$summary")
   mem=$(awk '/^peak memory/ {print $3}' <<<"$summary")
