@@ -33,12 +33,4 @@ ScanPoints ToScanPoints(const LaserScan& scan, const ScanPointsOptions& options)
   return out;
 }
 
-std::vector<Eigen::Vector2f> Decimate(const std::vector<Eigen::Vector2f>& points, int step) {
-  if (step <= 1) return points;
-  std::vector<Eigen::Vector2f> out;
-  out.reserve(points.size() / static_cast<std::size_t>(step) + 1);
-  for (std::size_t i = 0; i < points.size(); i += static_cast<std::size_t>(step)) out.push_back(points[i]);
-  return out;
-}
-
 }  // namespace pslam

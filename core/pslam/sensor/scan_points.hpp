@@ -22,7 +22,4 @@ struct ScanPoints {
 
 ScanPoints ToScanPoints(const LaserScan& scan, const ScanPointsOptions& options);
 
-// Every `step`-th hit (all if step <= 1): a cheaper point set for scoring.
-std::vector<Eigen::Vector2f> Decimate(const std::vector<Eigen::Vector2f>& points, int step);
-
 }  // namespace pslam
