@@ -242,6 +242,7 @@ class Recorder {
     return s > 0 ? static_cast<double>(viewed_[s] - sent_[s]) / 1e6 : std::nan("");
   }
   std::int64_t SentAt(std::int64_t s) const { return sent_[s]; }
+  std::int64_t AckedAt(std::int64_t s) const { return acked_[s]; }
   std::int64_t ViewedAt(std::int64_t s) const { return viewed_[s]; }
   std::vector<double> ViewLatenciesMs() const { return Diffs(viewed_.get()); }
   std::vector<double> AckLatenciesMs() const { return Diffs(acked_.get()); }
@@ -322,7 +323,9 @@ class Agent {
     if (thread_.joinable()) thread_.join();
   }
 
+  static constexpr std::int64_t kMaxAhead = 128;
   std::int64_t sent() const { return sent_; }
+  std::int64_t window_waits() const { return window_waits_; }
   bool done_sending() const { return done_sending_; }
   bool failed() const { return failed_; }
   int errors() const { return errors_; }
@@ -336,7 +339,12 @@ class Agent {
   void ReadAcks() {
     ws_.async_read(rbuf_, [this](beast::error_code ec, std::size_t) {
       if (ec) {
-        if (!closing_) Fail("ingest read: " + ec.message());
+        if (!closing_) {
+          const auto reason = ws_.reason();
+          Fail("ingest read: " + ec.message() + (reason.code != websocket::close_code::none
+                                                      ? " (close " + std::to_string(reason.code) + " " + std::string(reason.reason.data(), reason.reason.size()) + ")"
+                                                      : std::string()));
+        }
         return;
       }
       const auto now = NanosSince(epoch_);
@@ -359,6 +367,17 @@ class Agent {
     if (closing_) return;
     if (next_ >= count_) {
       done_sending_ = true;
+      return;
+    }
+    // Stay below the server's --max-inflight (256): at most kMaxAhead scans beyond what the viewer
+    // has seen processed. (When the server pauses an agent for back-pressure it drops the
+    // connection instead, see server/README.md, "Server benchmark".)
+    if (static_cast<std::int64_t>(next_) - rec_.viewed_upto() >= kMaxAhead) {
+      ++window_waits_;
+      timer_.expires_after(2ms);
+      timer_.async_wait([this](beast::error_code ec) {
+        if (!ec) ScheduleNext();
+      });
       return;
     }
     if (speed_ <= 0) return SendNext();
@@ -388,7 +407,7 @@ class Agent {
   void Fail(const std::string& what) {
     failed_ = true;
     std::lock_guard lock(mutex_);
-    last_error_ = what;
+    last_error_ += (last_error_.empty() ? "" : "; ") + what;
   }
 
   const std::vector<BenchScan>& scans_;
@@ -405,7 +424,7 @@ class Agent {
   Clock::time_point start_;
   bool closing_ = false;
   std::thread thread_;
-  std::atomic<std::int64_t> sent_{0};
+  std::atomic<std::int64_t> sent_{0}, window_waits_{0};
   std::atomic<bool> done_sending_{false}, failed_{false}, finished_{false};
   std::atomic<int> errors_{0}, overloaded_{0};
   mutable std::mutex mutex_;
@@ -580,7 +599,7 @@ class Viewer {
 
 struct StatsSample {
   double t = 0;  // seconds since the run's first scan was sent
-  double rate_hz = 0, step_ms = 0, latency_ms = 0, commit_ms = 0, max_commit_ms = 0;
+  double rate_hz = 0, step_ms = 0, latency_ms = 0, latency_max_ms = 0, prediction_max_ms = 0, commit_ms = 0, max_commit_ms = 0;
   std::int64_t processed = 0, queued = 0, scans = 0;
 };
 
@@ -622,6 +641,8 @@ class StatsPoller {
       s.rate_hz = f.value("scan_rate_hz", 0.0);
       s.step_ms = f.value("step_ms_mean", 0.0);
       s.latency_ms = f.value("latency_ms_mean", 0.0);
+      s.latency_max_ms = f.value("latency_ms_max", 0.0);
+      s.prediction_max_ms = f.value("prediction_ms_max", 0.0);
       s.processed = f.value("processed_seq", std::int64_t{0});
       s.scans = f.value("scans", std::int64_t{0});
       s.queued = f.value("queued", std::int64_t{0});
@@ -653,6 +674,12 @@ struct ViewerResult {
   std::string error;
 };
 
+struct ThreadCpu {
+  int tid = 0;
+  double cpu_s = 0;
+  bool new_in_run = false;  // started during the run: the session's engine thread
+};
+
 struct StreamResult {
   std::string label, session_id;
   std::size_t scans = 0;
@@ -672,8 +699,14 @@ struct StreamResult {
   double grid_bytes_mean = 0;   // time-weighted over the run
   double delta_bytes_per_s = 0; // measured viewer, after its snapshot
   double updates_per_s = 0;     // measured viewer's live ticks per second
-  double server_cpu_s = 0;
-  std::int64_t sent = 0, acked = 0;
+  double server_cpu_s = 0, bench_cpu_s = 0;
+  std::vector<ThreadCpu> threads;  // server threads by CPU used during the run, most first
+  // Per scan (index seq-1), ms since the first scan was sent; NaN where it did not happen.
+  std::vector<double> sent_ms, acked_ms, viewed_ms, tick_ms;
+  // Latency split by whether the scan could be published at once or was held by the 10 Hz tick
+  // limit (another tick less than 100 ms before; see RunStream).
+  std::vector<double> latency_after_idle_ms, latency_within_tick_ms;
+  std::int64_t sent = 0, acked = 0, window_waits = 0;
   int agent_errors = 0, overloaded = 0;
   std::string agent_error;
 };
@@ -705,6 +738,7 @@ StreamResult RunStream(const Options& o, ServerProcess& server, const LogData& l
 
   Recorder rec(spec.count);
   Agent agent(log.scans, spec.count, spec.speed, rec, epoch);
+  const auto threads0 = server.ThreadCpuSeconds();  // before the hello starts the session's engine thread
   res.session_id = agent.Open(port, HelloFor(o, log.laser, "bench " + spec.label));
 
   // The measured viewer gets an io_context and a thread of its own, so its timestamps do not wait
@@ -741,6 +775,7 @@ StreamResult RunStream(const Options& o, ServerProcess& server, const LogData& l
   }
 
   StatsPoller poller(port, res.session_id);
+  const double own0 = OwnCpuSeconds();
   const double cpu0 = server.CpuSeconds();
   const Clock::time_point t0 = Clock::now();
   poller.Start(t0);
@@ -769,6 +804,14 @@ StreamResult RunStream(const Options& o, ServerProcess& server, const LogData& l
   }
   const std::int64_t end_ns = NanosSince(epoch);
   res.server_cpu_s = server.CpuSeconds() - cpu0;
+  res.bench_cpu_s = OwnCpuSeconds() - own0;
+  for (const auto& [tid, cpu] : server.ThreadCpuSeconds()) {
+    const auto before = threads0.find(tid);
+    // CPU used since just before the hello (the engine thread: since its start).
+    const double base = before == threads0.end() ? 0.0 : before->second;
+    res.threads.push_back({tid, cpu - base, before == threads0.end()});
+  }
+  std::sort(res.threads.begin(), res.threads.end(), [](const ThreadCpu& x, const ThreadCpu& y) { return x.cpu_s > y.cpu_s; });
   poller.Stop();
   res.stats = poller.samples();
   res.complete = rec.viewed_upto() >= static_cast<std::int64_t>(spec.count);
@@ -780,6 +823,7 @@ StreamResult RunStream(const Options& o, ServerProcess& server, const LogData& l
   res.latency_ms = rec.ViewLatenciesMs();
   res.ack_ms = rec.AckLatenciesMs();
   res.sent = agent.sent();
+  res.window_waits = agent.window_waits();
   res.acked = rec.acked_upto();
   res.agent_errors = agent.errors();
   res.overloaded = agent.overloaded();
@@ -787,7 +831,9 @@ StreamResult RunStream(const Options& o, ServerProcess& server, const LogData& l
   std::vector<std::uint64_t> delta_at_end;
   for (auto& v : viewers) delta_at_end.push_back(v->delta_bytes());
   std::vector<std::uint64_t> messages_at_end, bytes_at_end, updates_at_end;
+  std::vector<bool> ended_at_end;
   for (auto& v : viewers) {
+    ended_at_end.push_back(v->ended());
     messages_at_end.push_back(v->messages());
     bytes_at_end.push_back(v->bytes());
     updates_at_end.push_back(v->updates());
@@ -807,7 +853,7 @@ StreamResult RunStream(const Options& o, ServerProcess& server, const LogData& l
 
   for (std::size_t i = 0; i < viewers.size(); ++i) {
     const Viewer& v = *viewers[i];
-    res.viewers.push_back({ModeName(v.mode()), v.measured(), v.connected(), v.got_snapshot(), v.ended(), messages_at_end[i],
+    res.viewers.push_back({ModeName(v.mode()), v.measured(), v.connected(), v.got_snapshot(), ended_at_end[i], messages_at_end[i],
                            bytes_at_end[i], delta_at_end[i], updates_at_end[i], v.error()});
   }
   const Viewer& m = *viewers[0];
@@ -816,6 +862,24 @@ StreamResult RunStream(const Options& o, ServerProcess& server, const LogData& l
   res.count_by_type = m.count_by_type();
   res.grid_bytes_end = m.grid_bytes();
   res.grid_tiles_end = m.grid_tiles();
+  auto ms_since_first = [&](std::int64_t ns) { return ns > 0 ? std::round(static_cast<double>(ns - first_sent) / 1e4) / 100.0 : std::nan(""); };
+  for (std::int64_t s = 1; s <= static_cast<std::int64_t>(spec.count); ++s) {
+    res.sent_ms.push_back(ms_since_first(rec.SentAt(s)));
+    res.acked_ms.push_back(ms_since_first(rec.AckedAt(s)));
+    res.viewed_ms.push_back(ms_since_first(rec.ViewedAt(s)));
+  }
+  for (const UpdateSample& u : res.series) res.tick_ms.push_back(ms_since_first(u.ns));
+  // A scan was held by the 10 Hz tick limit if the tick before the one that carried it came later
+  // than 100 ms before the scan was sent (that tick may even have been triggered by an earlier scan
+  // sent just before it): the engine could not publish at once and waited for the next tick.
+  for (std::int64_t s = 1; s <= static_cast<std::int64_t>(spec.count); ++s) {
+    const std::int64_t sent = rec.SentAt(s), viewed = rec.ViewedAt(s);
+    if (sent == 0 || viewed == 0) continue;
+    const auto carrying = std::lower_bound(res.series.begin(), res.series.end(), viewed,
+                                           [](const UpdateSample& u, std::int64_t ns) { return u.ns < ns; });
+    const bool held = carrying != res.series.begin() && std::prev(carrying)->ns > sent - 100'000'000;
+    (held ? res.latency_within_tick_ms : res.latency_after_idle_ms).push_back(static_cast<double>(viewed - sent) / 1e6);
+  }
   // Time-weighted mean of the full compressed grid over [first send, last scan seen].
   double integral = 0;
   std::int64_t prev_ns = first_sent;
@@ -980,7 +1044,9 @@ json StreamJson(const StreamResult& r, double rate_hz) {
   json stats = json::array();
   for (const StatsSample& s : r.stats) {
     stats.push_back({{"t", s.t}, {"scan_rate_hz", s.rate_hz}, {"processed_seq", s.processed}, {"step_ms_mean", s.step_ms},
-                     {"latency_ms_mean", s.latency_ms}, {"queued", s.queued}, {"last_commit_ms", s.commit_ms}});
+                     {"latency_ms_mean", s.latency_ms}, {"latency_ms_max", s.latency_max_ms},
+                     {"prediction_ms_max", s.prediction_max_ms}, {"queued", s.queued}, {"last_commit_ms", s.commit_ms},
+                     {"max_commit_ms", s.max_commit_ms}});
   }
   return {{"label", r.label},
           {"session_id", r.session_id},
@@ -1001,9 +1067,25 @@ json StreamJson(const StreamResult& r, double rate_hz) {
                                {"grid_bytes_mean", r.grid_bytes_mean}, {"bytes_by_type", r.bytes_by_type},
                                {"count_by_type", r.count_by_type}}},
           {"server_cpu_s", r.server_cpu_s},
+          {"bench_cpu_s", r.bench_cpu_s},
+          {"server_threads", [&] {
+             json list = json::array();
+             for (const ThreadCpu& th : r.threads) {
+               if (th.cpu_s > 0) list.push_back({{"tid", th.tid}, {"cpu_s", th.cpu_s}, {"new_in_run", th.new_in_run}});
+             }
+             return list;
+           }()},
+          {"latency_split_ms",
+           {{"published_at_once", {{"n", r.latency_after_idle_ms.size()}, {"p50", Percentile(r.latency_after_idle_ms, 50)},
+                                                        {"p95", Percentile(r.latency_after_idle_ms, 95)}, {"max", Max(r.latency_after_idle_ms)}}},
+            {"held_by_10hz_tick_limit", {{"n", r.latency_within_tick_ms.size()}, {"p50", Percentile(r.latency_within_tick_ms, 50)},
+                                                    {"p95", Percentile(r.latency_within_tick_ms, 95)}, {"max", Max(r.latency_within_tick_ms)}}}}},
+          {"per_scan_ms", {{"sent", r.sent_ms}, {"acked", r.acked_ms}, {"viewed", r.viewed_ms}}},
+          {"viewer_ticks_ms", r.tick_ms},
           {"agent_errors", r.agent_errors},
           {"overloaded", r.overloaded},
           {"agent_error", r.agent_error},
+          {"agent_window_waits", r.window_waits},
           {"viewers", viewers},
           {"stats_samples", stats}};
 }
@@ -1038,7 +1120,6 @@ int Main(int argc, char** argv) {
   const Options o = ParseOptions(argc, argv);
   if (!std::filesystem::exists(o.server)) throw std::runtime_error("no server binary at " + o.server + " (build pslam-server)");
   if (!std::filesystem::exists(o.log)) throw std::runtime_error("no log at " + o.log);
-  const bool want_stream = o.phases.count("latency") || o.phases.count("viewers") || o.phases.count("png");
   const std::size_t load = std::max(o.scans, o.phases.count("throughput") ? o.flat_out_scans : 0);
   std::cerr << "loading up to " << load << " scans of " << o.log << "\n";
   const LogData log = LoadScans(o.log, load);
@@ -1078,7 +1159,7 @@ int Main(int argc, char** argv) {
     const RunSpec one{"1 viewer", scans, o.speed, 0, 0, 0, std::chrono::milliseconds(o.slow_delay_ms)};
     const RunSpec many{std::to_string(o.viewers) + " viewers", scans, o.speed, others, o.slow_viewers, o.stalled_viewers,
                        std::chrono::milliseconds(o.slow_delay_ms)};
-    if (want_stream && (o.phases.count("latency") || o.phases.count("png"))) {
+    if (o.phases.count("latency") || o.phases.count("png")) {  // png also times the streamed session's map
       a = RunStream(o, server, log, one);
       if (o.phases.count("png")) png_live = MeasurePng(server, a->session_id, "streamed session (live)", o.png_requests);
       CloseSession(port, a->session_id);
@@ -1188,13 +1269,40 @@ int Main(int argc, char** argv) {
       << Fmt(Percentile(r.latency_ms, 50)) << " / " << Fmt(Percentile(r.latency_ms, 95)) << " / " << Fmt(Max(r.latency_ms))
       << " | " << Fmt(Percentile(r.ack_ms, 50)) << " / " << Fmt(Percentile(r.ack_ms, 95)) << " | "
       << Fmt(r.updates_per_s) << " | " << Fmt(r.delta_bytes_per_s / 1024.0) << " | "
-      << Fmt(100.0 * r.server_cpu_s / std::max(r.wall_s, 1e-9), 0) << "% |\n";
+      << Fmt(100.0 * r.server_cpu_s / std::max(r.wall_s, 1e-9), 0) << "% | "
+      << Fmt(100.0 * r.bench_cpu_s / std::max(r.wall_s, 1e-9), 0) << "% |\n";
   };
   t << "\n| run | scans seen | wall s | input scans/s | processed scans/s | stats scan_rate_hz (median) | "
-       "latency ms p50 / p95 / max | ack ms p50 / p95 | live ticks/s | viewer KiB/s | server CPU |\n"
-       "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+       "latency ms p50 / p95 / max | ack ms p50 / p95 | live ticks/s | viewer KiB/s | server CPU | bench CPU |\n"
+       "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
   for (const auto* r : {a ? &*a : nullptr, b ? &*b : nullptr, c1 ? &*c1 : nullptr, c50 ? &*c50 : nullptr}) {
     if (r) run_row(*r);
+  }
+  t << "\nServer threads, CPU as % of the run's wall time (E: started during the run, the session's engine):";
+  for (const auto* r : {a ? &*a : nullptr, b ? &*b : nullptr, c1 ? &*c1 : nullptr, c50 ? &*c50 : nullptr}) {
+    if (!r) continue;
+    t << "\n- " << r->label << ":";
+    int shown = 0;
+    double rest = 0;
+    for (const ThreadCpu& th : r->threads) {
+      if (shown < 4 && th.cpu_s > 0) {
+        t << " " << Fmt(100.0 * th.cpu_s / std::max(r->wall_s, 1e-9), 1) << "%" << (th.new_in_run ? " (E)" : "") << ",";
+        ++shown;
+      } else {
+        rest += th.cpu_s;
+      }
+    }
+    t << " others " << Fmt(100.0 * rest / std::max(r->wall_s, 1e-9), 1) << "%";
+  }
+  t << "\n";
+  if (a) {
+    t << "\nLatency of the " << a->label << " run, scans the engine could publish at once (no live tick in the 100 ms "
+      << "before): p50 " << Fmt(Percentile(a->latency_after_idle_ms, 50)) << " / p95 "
+      << Fmt(Percentile(a->latency_after_idle_ms, 95)) << " / max " << Fmt(Max(a->latency_after_idle_ms)) << " ms, "
+      << a->latency_after_idle_ms.size() << " scans; scans held by the 10 Hz tick limit (another tick less than 100 ms "
+      << "before, the scan waits for the next): p50 "
+      << Fmt(Percentile(a->latency_within_tick_ms, 50)) << " / p95 " << Fmt(Percentile(a->latency_within_tick_ms, 95))
+      << " / max " << Fmt(Max(a->latency_within_tick_ms)) << " ms, " << a->latency_within_tick_ms.size() << " scans.\n";
   }
   if (b) {
     t << "\nPer-viewer receive rate in the " << b->label << " run (min / median / max per viewer):\n\n"

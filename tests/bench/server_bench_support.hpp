@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,6 +15,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -94,6 +96,26 @@ class ServerProcess {
       if (i == 15) stime = std::stod(f);
     }
     return (utime + stime) / static_cast<double>(sysconf(_SC_CLK_TCK));
+  }
+
+  // CPU seconds per thread id (user + system), from /proc/PID/task.
+  std::map<int, double> ThreadCpuSeconds() const {
+    std::map<int, double> out;
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator("/proc/" + std::to_string(pid_) + "/task", ec)) {
+      std::ifstream in(entry.path() / "stat");
+      std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      const auto close_paren = text.rfind(')');
+      if (close_paren == std::string::npos) continue;
+      std::istringstream fields(text.substr(close_paren + 2));
+      std::string f;
+      double cpu = 0;
+      for (int i = 3; i <= 15 && fields >> f; ++i) {
+        if (i == 14 || i == 15) cpu += std::stod(f);
+      }
+      out[std::stoi(entry.path().filename().string())] = cpu / static_cast<double>(sysconf(_SC_CLK_TCK));
+    }
+    return out;
   }
 
   // SIGTERM, then up to 60 s for the orderly shutdown, then SIGKILL. Returns the exit status.
@@ -271,6 +293,13 @@ inline double Mean(const std::vector<double>& v) {
 }
 inline double Max(const std::vector<double>& v) { return v.empty() ? std::nan("") : *std::max_element(v.begin(), v.end()); }
 inline double Min(const std::vector<double>& v) { return v.empty() ? std::nan("") : *std::min_element(v.begin(), v.end()); }
+
+// CPU seconds (user + system) of this process, all threads.
+inline double OwnCpuSeconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
 
 inline std::string LoadAverage() {
   std::ifstream in("/proc/loadavg");

@@ -147,6 +147,9 @@ void IngestSession::HandleInput(InputRecord input) {
   }
   if (!paused_ && context_->mapping.PauseIfOverloaded(runtime_)) {
     paused_ = true;
+    // While paused no read is pending, and nothing else holds the session once the last ack is
+    // written: keep it alive until Resume() (the service holds only a weak pointer).
+    paused_self_ = shared_from_this();
     Send(ErrorMessage("overloaded", "the filter is behind; wait for acks before sending more"));
   }
 }
@@ -168,6 +171,7 @@ void IngestSession::SendTarget(const ExplorationTarget& target) {
 void IngestSession::Resume() {
   net::post(ws_.get_executor(), [self = shared_from_this()] {
     self->paused_ = false;
+    self->paused_self_.reset();
     self->ReadMore();
   });
 }
@@ -238,6 +242,7 @@ void IngestSession::OnWrite(beast::error_code ec, std::size_t) {
 void IngestSession::OnEnded() {
   if (ended_) return;
   ended_ = true;
+  paused_self_.reset();
   --context_->agents;
   if (runtime_) {
     context_->mapping.Detach(runtime_, this);

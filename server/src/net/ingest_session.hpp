@@ -58,6 +58,7 @@ class IngestSession : public AgentLink, public Closable, public std::enable_shar
   std::optional<LaserGeometry> laser_;
   bool reading_ = false;
   bool paused_ = false;         // back-pressure: waiting for the filter
+  std::shared_ptr<IngestSession> paused_self_;  // keeps a paused session alive
   bool opening_ = false;        // a hello is being handled
   bool ended_ = false;
 
