@@ -22,6 +22,8 @@
 #include <thread>
 #include <vector>
 
+#include "testing/listening_port.hpp"
+
 #include <boost/asio.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
@@ -140,22 +142,7 @@ class ServerProcess {
 
  private:
   unsigned short ReadPort() {
-    std::string line;
-    const auto deadline = Clock::now() + 30s;
-    while (Clock::now() < deadline) {
-      pollfd p{stdout_, POLLIN, 0};
-      if (poll(&p, 1, 100) <= 0) continue;
-      char c;
-      if (read(stdout_, &c, 1) != 1) break;
-      if (c != '\n') {
-        line += c;
-        continue;
-      }
-      const std::string prefix = "listening on http://127.0.0.1:";
-      if (line.rfind(prefix, 0) == 0) return static_cast<unsigned short>(std::stoi(line.substr(prefix.size())));
-      line.clear();
-    }
-    throw std::runtime_error("pslam-server did not report its port (see its log)");
+    return ::pslam::testing::ReadListeningPort(stdout_, std::chrono::seconds(30), "see its log");
   }
 
   pid_t pid_ = -1;

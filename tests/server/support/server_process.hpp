@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "testing/listening_port.hpp"
+
 namespace pslam::server::testing {
 
 class ServerProcess {
@@ -68,22 +70,7 @@ class ServerProcess {
   }
 
   unsigned short ReadPort() {
-    std::string line;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-    while (std::chrono::steady_clock::now() < deadline) {
-      pollfd p{stdout_, POLLIN, 0};
-      if (poll(&p, 1, 100) <= 0) continue;
-      char c;
-      if (read(stdout_, &c, 1) != 1) break;
-      if (c != '\n') {
-        line += c;
-        continue;
-      }
-      const std::string prefix = "listening on http://127.0.0.1:";
-      if (line.rfind(prefix, 0) == 0) return static_cast<unsigned short>(std::stoi(line.substr(prefix.size())));
-      line.clear();
-    }
-    throw std::runtime_error("pslam-server did not report its port (see the .log next to the data dir)");
+    return ::pslam::testing::ReadListeningPort(stdout_, std::chrono::seconds(20), "see the .log next to the data dir");
   }
 
   pid_t pid_ = -1;
