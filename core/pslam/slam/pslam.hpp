@@ -57,6 +57,8 @@ class PSlam {
   // Whether an unknown cell of the best map is covered by a pending or confirmed hypothesis: what
   // skip-predicted exploration asks.
   bool IsCovered(const Eigen::Vector2i& cell) const;
+  // The covered cells as a grid (known = covered), for planning on a snapshot off this thread.
+  const OccupancyGrid& coverage() const { return coverage_; }
   // The best map with the cells of pending and confirmed hypotheses written into unknown cells.
   OccupancyGrid MergedMap() const;
   // Psi of every hypothesis against the current best map, over all of its original cells observed

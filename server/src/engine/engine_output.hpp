@@ -23,13 +23,14 @@ struct LiveTile {
   std::shared_ptr<const std::vector<std::uint8_t>> cells;  // EncodeLiveTile
 };
 
-// One tick of the live view (at most 10 per second): what changed since the previous tick.
+// One tick of the live view (10 per second on average): what changed since the previous tick.
 struct LiveFrame {
   double resolution = 0.05;
   std::shared_ptr<const OccupancyGrid> map;          // the best particle's map at this tick
   std::vector<LiveTile> tiles;                       // changed tiles
   std::optional<Pose2D> pose;                        // robot pose estimate
   std::shared_ptr<const LaserScan> scan;             // the latest scan, drawn at the pose
+  std::int64_t scan_seq = 0;                         // its input's seq
   std::int64_t trajectory_first_index = 0;           // scan index of trajectory[0]
   std::vector<TrajectoryRow> trajectory;             // poses of the scans since the previous tick
   std::vector<Pose2D> particles;
@@ -39,6 +40,7 @@ struct LiveFrame {
   std::vector<std::array<double, 2>> frontiers;
   std::optional<ExplorationTarget> target;
   EngineStats stats;
+  bool send_stats = true;  // viewers get stats at most once per stats period; 'stats' is always current
 };
 
 }  // namespace pslam::server

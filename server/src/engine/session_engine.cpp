@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <utility>
 
 #include "engine/tile_codec.hpp"
 
@@ -12,6 +13,10 @@ constexpr std::size_t kTimingWindow = 200;
 constexpr std::size_t kMaxLiveParticles = 2000;  // a viewer needs the cloud's shape, not every particle
 }  // namespace
 
+SteadyTime::duration SessionEngine::StatsPeriod() const {
+  return std::chrono::duration_cast<SteadyTime::duration>(std::chrono::duration<double>(timing_.stats_period_seconds));
+}
+
 SessionEngine::SessionEngine(std::string session_id, SessionSettings settings, LaserGeometry laser,
                              EngineTiming timing, EngineSinks sinks)
     : session_id_(std::move(session_id)),
@@ -20,7 +25,10 @@ SessionEngine::SessionEngine(std::string session_id, SessionSettings settings, L
       timing_(timing),
       sinks_(std::move(sinks)) {}
 
-SessionEngine::~SessionEngine() { Join(StopMode::kAbort); }
+SessionEngine::~SessionEngine() {
+  Join(StopMode::kAbort);
+  pipeline_.reset();  // joins the planner, whose callback uses mutex_ and wake_
+}
 
 void SessionEngine::Start(BacklogReader backlog, std::int64_t backlog_until) {
   rebuilding_ = backlog_until > 0;
@@ -78,8 +86,15 @@ std::shared_ptr<const LiveFrame> SessionEngine::latest_frame() const {
 
 void SessionEngine::Loop(BacklogReader backlog, std::int64_t backlog_until) {
   try {
-    pipeline_ = std::make_unique<SlamPipeline>(settings_, laser_);
-    last_live_ = last_checkpoint_ = SteadyNow();
+    pipeline_ = std::make_unique<SlamPipeline>(settings_, laser_, [this] {
+      {
+        std::lock_guard lock(mutex_);
+        plan_ready_ = true;
+      }
+      wake_.notify_one();
+    });
+    last_checkpoint_ = SteadyNow();
+    live_tokens_.emplace(1.0 / timing_.live_period_seconds, timing_.live_burst, last_checkpoint_);
     // Rebuild: the stored inputs of a resumed session, straight from the database.
     std::int64_t after = 0;
     bool more = backlog_until > 0;
@@ -102,25 +117,30 @@ void SessionEngine::Loop(BacklogReader backlog, std::int64_t backlog_until) {
     }
     rebuilding_ = false;
 
-    const auto live_period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-        std::chrono::duration<double>(timing_.live_period_seconds));
     for (;;) {
       Queued next;
       {
         std::unique_lock lock(mutex_);
         if (queue_.empty() && stop_ == StopMode::kNone) {
-          // Idle: wake for the next input, or to publish what the last inputs changed.
+          // Idle: wake for the next input, a finished plan, or to publish what the last inputs changed.
+          const auto woken = [&] { return !queue_.empty() || stop_ != StopMode::kNone || plan_ready_; };
+          const SteadyTime now = SteadyNow();
           if (live_dirty_) {
-            wake_.wait_until(lock, last_live_ + live_period, [&] { return !queue_.empty() || stop_ != StopMode::kNone; });
+            wake_.wait_until(lock, live_tokens_->NextToken(now), woken);
+          } else if (stats_pending_) {  // the last stats held back by the stats period
+            wake_.wait_until(lock, std::max(live_tokens_->NextToken(now), last_stats_sent_ + StatsPeriod()), woken);
           } else {
-            wake_.wait(lock, [&] { return !queue_.empty() || stop_ != StopMode::kNone; });
+            wake_.wait(lock, woken);
           }
         }
         if (stop_ == StopMode::kAbort || stop_ == StopMode::kStop) break;
+        const bool plan_ready = std::exchange(plan_ready_, false);  // an input takes it too
         if (queue_.empty()) {
           if (stop_ == StopMode::kFinish) break;
           lock.unlock();
-          if (live_dirty_ && SteadyNow() - last_live_ >= live_period) PublishLive();
+          if (plan_ready) TakePlan();
+          const SteadyTime now = SteadyNow();
+          if ((live_dirty_ || StatsDue(now)) && live_tokens_->TryTake(now)) PublishLive();
           continue;
         }
         next = std::move(queue_.front());
@@ -135,7 +155,7 @@ void SessionEngine::Loop(BacklogReader backlog, std::int64_t backlog_until) {
       mode = stop_;
     }
     if (mode == StopMode::kAbort) return;
-    PublishLive();
+    PublishLive(/*final_tick=*/true);
     WriteCheckpoint(/*final_checkpoint=*/true);
     if (mode == StopMode::kFinish && sinks_.finished) sinks_.finished();
   } catch (const std::exception& e) {
@@ -171,10 +191,18 @@ void SessionEngine::Process(const InputRecord& input, std::optional<SteadyTime> 
   if (sinks_.progress) sinks_.progress(input.seq);
 
   const SteadyTime now = SteadyNow();
-  if (SecondsSince(last_live_) >= timing_.live_period_seconds) PublishLive();
+  if (live_tokens_->TryTake(now)) PublishLive();
   if (std::chrono::duration<double>(now - last_checkpoint_).count() >= timing_.checkpoint_period_seconds) {
     WriteCheckpoint(false);
   }
+}
+
+void SessionEngine::TakePlan() {
+  live_dirty_ = true;  // frontiers at least
+  const std::optional<ExplorationTarget> target = pipeline_->TakePlan();
+  if (!target) return;
+  live_target_ = target;
+  if (sinks_.target && !rebuilding_) sinks_.target(*target);
 }
 
 void SessionEngine::RecordTiming(double latency_ms, double step_ms) {
@@ -223,15 +251,22 @@ EngineStats SessionEngine::CurrentStats() const {
   return s;
 }
 
-void SessionEngine::PublishLive() {
-  last_live_ = SteadyNow();
+bool SessionEngine::StatsDue(SteadyTime now) const {
+  return stats_pending_ && now - last_stats_sent_ >= StatsPeriod();
+}
+
+void SessionEngine::PublishLive(bool final_tick) {
+  const SteadyTime now = SteadyNow();
   while (recent_scans_.size() > 1 &&
-         std::chrono::duration<double>(last_live_ - recent_scans_.front()).count() > kRateWindowSeconds) {
+         std::chrono::duration<double>(now - recent_scans_.front()).count() > kRateWindowSeconds) {
     recent_scans_.pop_front();
   }
   auto frame = std::make_shared<LiveFrame>();
   frame->resolution = settings_.resolution;
   frame->stats = CurrentStats();
+  frame->send_stats = final_tick || now - last_stats_sent_ >= StatsPeriod();
+  if (frame->send_stats) last_stats_sent_ = now;
+  stats_pending_ = !frame->send_stats;
   if (pipeline_->started()) {
     frame->map = std::make_shared<const OccupancyGrid>(pipeline_->map());
     for (const Eigen::Vector2i& t : live_tiles_.Changed(*frame->map)) {
@@ -250,6 +285,7 @@ void SessionEngine::PublishLive() {
     const TrajectoryRow& last = online_.back();
     frame->pose = Pose2D(last.x, last.y, last.theta);
     frame->scan = last_scan_;
+    frame->scan_seq = last.seq;
   }
   frame->trajectory_first_index = static_cast<std::int64_t>(live_trajectory_sent_);
   frame->trajectory.assign(online_.begin() + static_cast<std::ptrdiff_t>(live_trajectory_sent_), online_.end());

@@ -1,8 +1,9 @@
 #pragma once
 // Runs one session's SlamPipeline on a thread of its own, so that neither the network threads nor
 // other sessions ever wait for the filter. Inputs arrive through Push() after they are durably
-// stored; the engine publishes live frames (at most every live_period) and storage checkpoints
-// (every checkpoint_period) through callbacks called on its thread.
+// stored; the engine publishes live frames (right after an input while the live token bucket has a
+// token: 1 / live_period per second on average, bursts of live_burst) and storage checkpoints (every
+// checkpoint_period) through callbacks called on its thread.
 //
 // The input queue has no bound of its own: callers bound it by admission (the ingest stops reading
 // from an agent whose unprocessed inputs exceed a limit; a replay waits in WaitForRoom).
@@ -19,14 +20,17 @@
 #include "engine/engine_output.hpp"
 #include "engine/slam_pipeline.hpp"
 #include "engine/tile_tracker.hpp"
+#include "engine/token_bucket.hpp"
 #include "model/input.hpp"
 #include "model/session_settings.hpp"
 
 namespace pslam::server {
 
 struct EngineTiming {
-  double live_period_seconds = 0.1;
+  double live_period_seconds = 0.1;  // average spacing of live ticks
+  double live_burst = 3;             // ticks that may follow each other without that spacing
   double checkpoint_period_seconds = 2.0;
+  double stats_period_seconds = 1.0;  // live stats: a plot's rate, not the filter's
 };
 
 struct EngineSinks {
@@ -80,7 +84,10 @@ class SessionEngine {
 
   void Loop(BacklogReader backlog, std::int64_t backlog_until);
   void Process(const InputRecord& input, std::optional<SteadyTime> received);
-  void PublishLive();
+  void TakePlan();
+  void PublishLive(bool final_tick = false);
+  bool StatsDue(SteadyTime now) const;
+  SteadyTime::duration StatsPeriod() const;
   void WriteCheckpoint(bool final_checkpoint);
   void RecordTiming(double latency_ms, double step_ms);
   EngineStats CurrentStats() const;  // engine thread
@@ -105,7 +112,9 @@ class SessionEngine {
   std::shared_ptr<const LaserScan> last_scan_;  // for the live laser layer
   bool live_dirty_ = true;
   bool stored_dirty_ = false;
-  SteadyTime last_live_{};
+  std::optional<TokenBucket> live_tokens_;
+  SteadyTime last_stats_sent_{};
+  bool stats_pending_ = false;  // the last tick's stats were not sent to viewers
   SteadyTime last_checkpoint_{};
   std::deque<SteadyTime> recent_scans_;
   std::deque<std::pair<double, double>> recent_timing_;  // (latency ms or -1, step ms)
@@ -115,6 +124,7 @@ class SessionEngine {
   std::condition_variable room_;
   std::deque<Queued> queue_;
   StopMode stop_ = StopMode::kNone;
+  bool plan_ready_ = false;                              // the planner has a result to take
   EngineStats stats_;                                    // copy for other threads
   std::shared_ptr<const LiveFrame> latest_frame_;
   std::atomic<std::int64_t> processed_seq_{0};

@@ -1,10 +1,9 @@
 #include "engine/slam_pipeline.hpp"
 
 #include <nlohmann/json.hpp>
-#include <stdexcept>
 
-#include "pslam/explore/explorer.hpp"
-#include "pslam/explore/frontier.hpp"
+#include <cmath>
+#include <stdexcept>
 
 namespace pslam::server {
 namespace {
@@ -54,8 +53,10 @@ PSlamOptions ToPSlamOptions(const SessionSettings& settings) {
   return o;
 }
 
-SlamPipeline::SlamPipeline(const SessionSettings& settings, const LaserGeometry& laser)
-    : settings_(settings), laser_(laser), slam_(ToPSlamOptions(settings)) {}
+SlamPipeline::SlamPipeline(const SessionSettings& settings, const LaserGeometry& laser, std::function<void()> plan_ready)
+    : settings_(settings), laser_(laser), slam_(ToPSlamOptions(settings)) {
+  if (settings_.plan_targets) planner_ = std::make_unique<ExplorationPlanner>(std::move(plan_ready));
+}
 
 HypothesisRecord SlamPipeline::ToRecord(const Hypothesis& h) const {
   HypothesisRecord r;
@@ -97,27 +98,31 @@ PipelineStep SlamPipeline::Add(const InputRecord& input) {
       step.hypotheses_changed.push_back(std::move(record));
     }
   }
-  // Planned on input time, not on filter updates: a robot that reached its target stands still,
-  // and would never be given the next one.
-  if (settings_.plan_targets) step.target = MaybePlan(input.t);
+  if (planner_) {
+    step.target = TakePlan();
+    // Planned on input time, not on filter updates: a robot that reached its target stands still,
+    // and would never be given the next one.
+    MaybeRequestPlan(input.t);
+  }
   return step;
 }
 
-std::optional<ExplorationTarget> SlamPipeline::MaybePlan(double time) {
+void SlamPipeline::MaybeRequestPlan(double time) {
   const Pose2D pose = slam_.filter().best().pose;
   const bool near_target = target_ && std::hypot(target_->x - pose.x, target_->y - pose.y) < kTargetReachedMetres;
-  if (!near_target && time - last_plan_time_ < kReplanSeconds) return std::nullopt;
-  last_plan_time_ = time;
-  const OccupancyGrid& map = slam_.filter().best().map;
-  ExploreOptions options;
-  options.mode = settings_.predict ? ExploreMode::kSkipPredicted : ExploreMode::kFullCoverage;
-  ExploreRequest request;
-  request.robot_position = pose.translation();
-  request.covered = [this](const Eigen::Vector2i& cell) { return slam_.IsCovered(cell); };
-  const ExploreDecision decision = SelectNextTarget(map, request, options);
-  frontiers_.clear();
-  for (const FrontierCluster& c : FindFrontierClusters(map, options.frontier)) frontiers_.push_back({c.centroid.x(), c.centroid.y()});
-  if (!decision.target) {
+  if (!near_target && time - last_plan_time_ < kReplanSeconds) return;
+  if (planner_->busy()) return;  // asked again at the next input
+  PlanRequest request{slam_.filter().best().map, slam_.coverage(), pose, settings_.predict, time};
+  if (planner_->Request(std::move(request))) last_plan_time_ = time;
+}
+
+std::optional<ExplorationTarget> SlamPipeline::TakePlan() {
+  if (!planner_) return std::nullopt;
+  std::optional<PlanResult> plan = planner_->TakeResult();
+  if (!plan) return std::nullopt;
+  frontiers_ = std::move(plan->frontiers);
+  const Pose2D& pose = plan->pose;
+  if (!plan->target) {
     // Exploration is done (or blocked): tell the robot to stop by sending an empty path once.
     if (exploration_done_) return std::nullopt;
     exploration_done_ = true;
@@ -125,11 +130,11 @@ std::optional<ExplorationTarget> SlamPipeline::MaybePlan(double time) {
     return target_;
   }
   exploration_done_ = false;
-  slam_.SetTarget(decision.target->cell, time);
+  slam_.SetTarget(plan->target->cell, plan->time);
   ExplorationTarget t;
-  t.x = decision.target->position.x();
-  t.y = decision.target->position.y();
-  for (const Eigen::Vector2d& p : decision.target->path) t.path.push_back({p.x(), p.y()});
+  t.x = plan->target->position.x();
+  t.y = plan->target->position.y();
+  for (const Eigen::Vector2d& p : plan->target->path) t.path.push_back({p.x(), p.y()});
   t.pose_x = pose.x;
   t.pose_y = pose.y;
   t.pose_theta = pose.theta;

@@ -1,15 +1,18 @@
 #pragma once
-// The seam between the server and the SLAM core: one session's P-SLAM, synchronous and
-// single-threaded (SessionEngine runs it on the session's thread; the structure predictor runs on
-// a worker of its own inside pslam::PSlam). Besides the filter it yields what the live view, the
+// The seam between the server and the SLAM core: one session's P-SLAM, called from one thread
+// (SessionEngine runs it on the session's thread; the structure predictor and the exploration
+// planner run on workers of their own). Besides the filter it yields what the live view, the
 // storage and the agent need: hypotheses as they change, frontiers, and the next exploration target
 // with its path (for sessions with a robot to drive; replays infer targets from the heading).
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <vector>
 
+#include "engine/exploration_planner.hpp"
 #include "model/hypothesis.hpp"
 #include "model/input.hpp"
 #include "model/session_settings.hpp"
@@ -24,7 +27,7 @@ struct PipelineStep {
   RbpfStep filter;                                // for scans
   std::vector<HypothesisRecord> hypotheses_changed;  // added or updated by this input
   std::vector<std::int64_t> hypotheses_removed;
-  std::optional<ExplorationTarget> target;        // a newly planned target, if any
+  std::optional<ExplorationTarget> target;        // a newly planned target, if any (see TakePlan)
 };
 
 // The LaserScan for a stored scan input of a session with laser 'laser'. Ranges that are not
@@ -36,11 +39,15 @@ PSlamOptions ToPSlamOptions(const SessionSettings& settings);
 
 class SlamPipeline {
  public:
-  SlamPipeline(const SessionSettings& settings, const LaserGeometry& laser);
+  // 'plan_ready' is called on the planner's thread when a plan can be taken (TakePlan).
+  SlamPipeline(const SessionSettings& settings, const LaserGeometry& laser, std::function<void()> plan_ready = {});
   SlamPipeline(const SlamPipeline&) = delete;
   SlamPipeline& operator=(const SlamPipeline&) = delete;
 
   PipelineStep Add(const InputRecord& input);
+  // Applies a finished plan: frontiers, and the new target (returned) if it is one the robot must
+  // be sent. Add() does this too; call it when the planner says a plan is ready and no input is.
+  std::optional<ExplorationTarget> TakePlan();
 
   const OccupancyGrid& map() const { return slam_.filter().best().map; }
   bool started() const { return !slam_.filter().particles().empty(); }
@@ -58,7 +65,7 @@ class SlamPipeline {
 
  private:
   HypothesisRecord ToRecord(const Hypothesis& h) const;
-  std::optional<ExplorationTarget> MaybePlan(double time);
+  void MaybeRequestPlan(double time);
 
   SessionSettings settings_;
   LaserGeometry laser_;
@@ -69,6 +76,7 @@ class SlamPipeline {
   std::optional<ExplorationTarget> target_;
   double last_plan_time_ = -1e300;
   bool exploration_done_ = false;
+  std::unique_ptr<ExplorationPlanner> planner_;  // last: its worker reads nothing of ours
 };
 
 }  // namespace pslam::server
