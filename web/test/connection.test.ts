@@ -1,5 +1,6 @@
 import { afterEach, beforeEach, describe, expect, it, vi } from 'vitest';
 import { backoffDelay, kBackoffMaxMs, LiveConnection, type ConnectionState } from '../src/net/connection';
+import { encodeParticleFrame, encodeScanFrame } from '../src/net/protocol';
 import { snapshotMessage } from './fixtures/live';
 
 // A WebSocket stand-in the test drives by hand.
@@ -64,21 +65,30 @@ describe('LiveConnection', () => {
     return { c, states, messages, tiles, invalid };
   }
 
-  it('decodes text and passes binary frames through', () => {
+  it('decodes text, scan and particle frames and passes tile frames through', () => {
     const { c, messages, tiles, invalid, states } = connect();
     c.start();
     const s = FakeSocket.all[0];
     expect(s.binaryType).toBe('arraybuffer');
     s.open();
     s.receive(JSON.stringify(snapshotMessage));
+    const tile = new Uint8Array(30);
+    tile.set([0x50, 0x53, 0x54, 0x4c]);
+    s.receive(tile.buffer);
+    const scan = encodeScanFrame({ type: 'scan', pose: { x: 1, y: 2, theta: 0 }, angle_min: -1, angle_increment: 0.5, max_range: 8, ranges: [1.5, null] }, 7);
+    s.receive(scan.buffer);
+    s.receive(encodeParticleFrame([[1, 2, 0.5, 0.25]]).buffer);
     s.receive(new ArrayBuffer(30));
+    s.receive(scan.slice(0, 41).buffer);
     s.receive('{not json');
     s.receive(JSON.stringify({ type: 'pose', x: 'bad' }));
-    expect(messages).toHaveLength(1);
+    expect(messages).toHaveLength(3);
+    expect(messages[1]).toMatchObject({ type: 'scan', seq: 7, ranges: [1.5, null] });
+    expect(messages[2]).toMatchObject({ type: 'particles', poses: [[1, 2, 0.5, 0.25]] });
     expect(tiles).toHaveLength(1);
-    expect(invalid).toHaveLength(2);
+    expect(invalid).toHaveLength(4);
     expect(states).toEqual(['connecting', 'open']);
-    expect(c.counters).toMatchObject({ messages: 3, tiles: 1, invalid: 2 });
+    expect(c.counters).toMatchObject({ messages: 7, tiles: 1, invalid: 4 });
   });
 
   it('reconnects with backoff after a loss and resubscribes by opening a new socket', () => {

@@ -1,6 +1,17 @@
 import { zlibSync } from 'fflate';
 import { describe, expect, it } from 'vitest';
-import { adler32, decodeLiveMessage, decodeTileFrame, encodeTileFrame } from '../src/net/protocol';
+import {
+  adler32,
+  binaryKind,
+  decodeLiveMessage,
+  decodeParticleFrame,
+  decodeScanFrame,
+  decodeTileFrame,
+  encodeParticleFrame,
+  encodeScanFrame,
+  encodeTileFrame,
+  type ScanMessage,
+} from '../src/net/protocol';
 import { hypothesisAdded, snapshotMessage } from './fixtures/live';
 
 const zlib = (d: Uint8Array) => zlibSync(d);
@@ -78,7 +89,6 @@ describe('decodeLiveMessage', () => {
   it('accepts every delta message type', () => {
     const messages = [
       { type: 'pose', x: 1, y: 2, theta: 0.1 },
-      { type: 'particles', poses: [[1, 2, 0, 0.5]] },
       { type: 'stats', stats: { scans: 3 } },
       { type: 'exploration', frontiers: [[1, 1]], target: null },
       { type: 'trajectory', first_index: 10, poses: [[1, 2, 0, 5]] },
@@ -86,7 +96,6 @@ describe('decodeLiveMessage', () => {
       { type: 'hypothesis', event: 'removed', hypothesis: { id: 4 } },
       { type: 'session', session_id: 's-1', status: 'closed' },
       { type: 'error', code: 'unknown_session', message: 'no session' },
-      { type: 'scan', pose: { x: 0, y: 0, theta: 0 }, angle_min: -1.57, angle_increment: 0.0175, ranges: [1, null, 2] },
     ];
     for (const m of messages) expect(decodeLiveMessage(m)).toMatchObject({ ok: true, value: { type: m.type } });
   });
@@ -104,10 +113,87 @@ describe('decodeLiveMessage', () => {
       { type: 'hypothesis', event: 'added', hypothesis: { id: 1 } },
       { type: 'stats', stats: 3 },
       { type: 'something-new' },
+      // Scans and particles come as binary frames only.
+      { type: 'scan', pose: { x: 0, y: 0, theta: 0 }, angle_min: -1.57, angle_increment: 0.0175, ranges: [1, null, 2] },
+      { type: 'particles', poses: [[1, 2, 0, 0.5]] },
     ];
     for (const m of bad) {
       const d = decodeLiveMessage(m);
       expect(d.ok, JSON.stringify(m)).toBe(false);
     }
+  });
+});
+
+describe('binary scan and particle frames', () => {
+  const scan: ScanMessage = {
+    type: 'scan',
+    pose: { x: 1.25, y: -2.5, theta: 0.5 },
+    angle_min: -Math.PI / 2,
+    angle_increment: Math.PI / 180,
+    max_range: 8,
+    ranges: [0.01, null, 2.31, 655.34, 7.99],
+  };
+
+  it('tells frames apart by their magic', () => {
+    expect(binaryKind(encodeScanFrame(scan, 1))).toBe('scan');
+    expect(binaryKind(encodeParticleFrame([]))).toBe('particles');
+    expect(binaryKind(encodeTileFrame({ tx: 0, ty: 0, size: 64, revision: 1, cells: tileCells(() => 1) }, zlib))).toBe('tile');
+    expect(binaryKind(new Uint8Array([0x50, 0x53, 0x58, 0x58]))).toBe('unknown');
+    expect(binaryKind(new Uint8Array(2))).toBe('unknown');
+  });
+
+  it('round-trips a scan: centimetre ranges, no-return beams as null, the seq', () => {
+    const frame = encodeScanFrame(scan, 2 ** 40 + 3);
+    expect(frame.length).toBe(40 + 2 * 5);
+    const d = decodeScanFrame(frame.buffer as ArrayBuffer);
+    expect(d.ok).toBe(true);
+    if (!d.ok) return;
+    expect(d.value.seq).toBe(2 ** 40 + 3);
+    expect(d.value.ranges).toEqual([0.01, null, 2.31, 655.34, 7.99]);
+    expect(d.value.pose.x).toBeCloseTo(1.25, 6);
+    expect(d.value.pose.theta).toBeCloseTo(0.5, 6);
+    expect(d.value.angle_increment).toBeCloseTo(Math.PI / 180, 6);
+    expect(d.value.max_range).toBe(8);
+  });
+
+  it('decodes a scan frame inside a larger buffer', () => {
+    const frame = encodeScanFrame(scan, 9);
+    const padded = new Uint8Array(frame.length + 3);
+    padded.set(frame, 3);
+    const d = decodeScanFrame(padded.subarray(3));
+    expect(d.ok && d.value.seq).toBe(9);
+  });
+
+  it('rejects a truncated, oversized or unknown-encoding scan frame', () => {
+    const frame = encodeScanFrame(scan, 1);
+    expect(decodeScanFrame(frame.slice(0, 20)).ok).toBe(false);
+    expect(decodeScanFrame(frame.slice(0, frame.length - 1)).ok).toBe(false);
+    const longer = new Uint8Array(frame.length + 2);
+    longer.set(frame);
+    expect(decodeScanFrame(longer).ok).toBe(false);
+    const badEncoding = frame.slice();
+    badEncoding[6] = 2;
+    const e = decodeScanFrame(badEncoding);
+    expect(!e.ok && e.error).toMatch(/encoding 2/);
+    const notFinite = frame.slice();
+    new DataView(notFinite.buffer).setFloat32(16, NaN, true);
+    expect(decodeScanFrame(notFinite).ok).toBe(false);
+    expect(decodeScanFrame(encodeParticleFrame([])).ok).toBe(false);
+  });
+
+  it('round-trips particles at single precision', () => {
+    const d = decodeParticleFrame(encodeParticleFrame([[1.5, -2.25, 0.125, 0.5], [3, 4, -1, 0.03125]]));
+    expect(d).toEqual({ ok: true, value: { type: 'particles', poses: [[1.5, -2.25, 0.125, 0.5], [3, 4, -1, 0.03125]] } });
+  });
+
+  it('rejects a particle frame whose length does not match its count, or too many particles', () => {
+    const frame = encodeParticleFrame([[1, 2, 3, 4]]);
+    expect(decodeParticleFrame(frame.slice(0, frame.length - 4)).ok).toBe(false);
+    const lying = frame.slice();
+    new DataView(lying.buffer).setUint32(4, 5000, true);
+    expect(decodeParticleFrame(lying).ok).toBe(false);
+    const nan = frame.slice();
+    new DataView(nan.buffer).setFloat32(8, Infinity, true);
+    expect(decodeParticleFrame(nan).ok).toBe(false);
   });
 });

@@ -137,7 +137,7 @@ void LiveSession::Write() {
   } else if (pose_) {
     next = {std::exchange(pose_, nullptr), false};
   } else if (scan_) {
-    next = {std::exchange(scan_, nullptr), false};
+    next = {std::exchange(scan_, nullptr), true};
   } else if (stats_) {
     next = {std::exchange(stats_, nullptr), false};
   } else if (exploration_) {
@@ -152,7 +152,7 @@ void LiveSession::Write() {
     next = {hypotheses_.begin()->second, false};
     hypotheses_.erase(hypotheses_.begin());
   } else if (particles_) {
-    next = {std::exchange(particles_, nullptr), false};
+    next = {std::exchange(particles_, nullptr), true};
   } else if (!tiles_.empty()) {
     next = {tiles_.begin()->second, true};
     tiles_.erase(tiles_.begin());

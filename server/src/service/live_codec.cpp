@@ -1,5 +1,6 @@
 #include "service/live_codec.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -14,26 +15,32 @@ std::string Dump(const nlohmann::json& j) { return j.dump(-1, ' ', false, nlohma
 
 nlohmann::json PoseJson(const Pose2D& p) { return {{"type", "pose"}, {"x", p.x}, {"y", p.y}, {"theta", p.theta}}; }
 
-// The latest scan for the laser layer; beams without a return are null. Ranges are rounded to
-// centimetres: the viewer only draws them, and the message stays small.
-nlohmann::json ScanJson(const LaserScan& scan, const Pose2D& robot) {
-  nlohmann::json ranges = nlohmann::json::array();
-  for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
-    if (scan.IsReturn(i)) ranges.push_back(std::round(scan.ranges[i] * 100.0) / 100.0);
-    else ranges.push_back(nullptr);
-  }
-  const Pose2D sensor = robot * scan.sensor_offset;
-  return {{"type", "scan"}, {"pose", {{"x", sensor.x}, {"y", sensor.y}, {"theta", sensor.theta}}},
-          {"angle_min", scan.angle_min}, {"angle_increment", scan.angle_increment},
-          {"max_range", scan.max_range}, {"ranges", std::move(ranges)}};
+// To 'decimals' places; dividing by an exact power of ten gives the double that prints shortest.
+double Round(double v, int decimals) {
+  if (decimals > 300) return 0.0;
+  const double scale = std::pow(10.0, decimals);
+  return std::round(v * scale) / scale;
 }
 
+double SignificantDigits(double v, int digits) {
+  if (!(std::abs(v) > 0) || !std::isfinite(v)) return 0.0;
+  return Round(v, digits - 1 - static_cast<int>(std::floor(std::log10(std::abs(v)))));
+}
+
+// Particles in the snapshot: poses to 1 mm and 0.001 rad, weights to 4 significant digits, which
+// is all a viewer draws.
 nlohmann::json ParticlesJson(const std::vector<Pose2D>& poses, const std::vector<double>& weights) {
   nlohmann::json list = nlohmann::json::array();
   for (std::size_t i = 0; i < poses.size(); ++i) {
-    list.push_back({poses[i].x, poses[i].y, poses[i].theta, i < weights.size() ? weights[i] : 0.0});
+    const double w = i < weights.size() ? weights[i] : 0.0;
+    list.push_back({Round(poses[i].x, 3), Round(poses[i].y, 3), Round(poses[i].theta, 3), SignificantDigits(w, 4)});
   }
-  return {{"type", "particles"}, {"poses", list}};
+  return list;
+}
+
+template <typename T>
+void Put(std::string& out, std::size_t offset, T value) {
+  std::memcpy(out.data() + offset, &value, sizeof(T));
 }
 
 nlohmann::json ExplorationJson(const LiveFrame& f) {
@@ -80,6 +87,42 @@ Bytes EncodeTileFrame(int tx, int ty, std::uint64_t revision, std::span<const st
   return MakeBytes(std::move(out));
 }
 
+Bytes EncodeScanFrame(std::int64_t seq, const LaserScan& scan, const Pose2D& robot) {
+  const std::size_t beams = std::min<std::size_t>(scan.ranges.size(), 65535);
+  std::string out(kScanFrameHeader + 2 * beams, '\0');
+  const Pose2D sensor = robot * scan.sensor_offset;
+  std::memcpy(out.data(), "PSSC", 4);
+  Put(out, 4, static_cast<std::uint16_t>(beams));
+  out[6] = static_cast<char>(kScanEncodingCentimetres);
+  Put(out, 8, seq);
+  Put(out, 16, static_cast<float>(sensor.x));
+  Put(out, 20, static_cast<float>(sensor.y));
+  Put(out, 24, static_cast<float>(sensor.theta));
+  Put(out, 28, static_cast<float>(scan.angle_min));
+  Put(out, 32, static_cast<float>(scan.angle_increment));
+  Put(out, 36, static_cast<float>(scan.max_range));
+  for (std::size_t i = 0; i < beams; ++i) {
+    const std::uint16_t cm = scan.IsReturn(i) ? static_cast<std::uint16_t>(std::min(std::round(scan.ranges[i] * 100.0), 65534.0))
+                                              : kScanNoReturn;
+    Put(out, kScanFrameHeader + 2 * i, cm);
+  }
+  return MakeBytes(std::move(out));
+}
+
+Bytes EncodeParticleFrame(std::span<const Pose2D> poses, std::span<const double> weights) {
+  std::string out(kParticleFrameHeader + 16 * poses.size(), '\0');
+  std::memcpy(out.data(), "PSPT", 4);
+  Put(out, 4, static_cast<std::uint32_t>(poses.size()));
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const std::size_t at = kParticleFrameHeader + 16 * i;
+    Put(out, at, static_cast<float>(poses[i].x));
+    Put(out, at + 4, static_cast<float>(poses[i].y));
+    Put(out, at + 8, static_cast<float>(poses[i].theta));
+    Put(out, at + 12, static_cast<float>(i < weights.size() ? weights[i] : 0.0));
+  }
+  return MakeBytes(std::move(out));
+}
+
 Bytes TrajectoryMessage(std::int64_t first_index, std::span<const TrajectoryRow> rows) {
   return MakeBytes(Dump({{"type", "trajectory"}, {"first_index", first_index}, {"poses", TrajectoryPoses(rows)}}));
 }
@@ -100,13 +143,16 @@ LiveDelta LiveState::Apply(const LiveFrame& f) {
     pose_ = PoseJson(*f.pose);
     d.pose = MakeBytes(Dump(pose_));
   }
-  if (f.scan && f.pose) d.scan = MakeBytes(Dump(ScanJson(*f.scan, *f.pose)));
+  if (f.scan && f.pose && f.scan_seq != scan_seq_) {
+    scan_seq_ = f.scan_seq;
+    d.scan = EncodeScanFrame(f.scan_seq, *f.scan, *f.pose);
+  }
   if (!f.particles.empty()) {
     particles_ = ParticlesJson(f.particles, f.weights);
-    d.particles = MakeBytes(Dump(particles_));
+    d.particles = EncodeParticleFrame(f.particles, f.weights);
   }
   stats_ = {{"type", "stats"}, {"stats", EngineStatsToJson(f.stats)}};
-  d.stats = MakeBytes(Dump(stats_));
+  if (f.send_stats) d.stats = MakeBytes(Dump(stats_));
   nlohmann::json exploration = ExplorationJson(f);
   if (exploration != exploration_) {
     exploration_ = std::move(exploration);
@@ -138,7 +184,7 @@ std::vector<LiveMessage> LiveState::Snapshot() const {
   nlohmann::json s = SnapshotJson(session_id_, "active", resolution_, tiles_.size());
   s["pose"] = pose_.is_null() ? nlohmann::json() : nlohmann::json{{"x", pose_["x"]}, {"y", pose_["y"]}, {"theta", pose_["theta"]}};
   s["trajectory"] = {{"first_index", 0}, {"poses", TrajectoryPoses(trajectory_)}};
-  s["particles"] = particles_.is_null() ? nlohmann::json::array() : particles_["poses"];
+  s["particles"] = particles_.is_null() ? nlohmann::json::array() : particles_;
   nlohmann::json hypotheses = nlohmann::json::array();
   for (const auto& [id, body] : hypotheses_) hypotheses.push_back(body);
   s["hypotheses"] = std::move(hypotheses);

@@ -1,6 +1,7 @@
 #pragma once
-// The live view's messages (schema/ws/live.md): JSON text messages for state, and binary tile
-// frames (a 24-byte header and a zlib payload) for the map. LiveState is one session's picture as
+// The live view's messages (schema/ws/live.md): JSON text messages for state, and binary frames
+// for what is sent every tick and is mostly numbers: map tiles (a 24-byte header and a zlib
+// payload), the laser scan and the particles. LiveState is one session's picture as
 // the viewers know it: it turns each engine tick into an encoded delta, once for all viewers, and
 // gives a full snapshot to a viewer that joins.
 #include <nlohmann/json.hpp>
@@ -21,6 +22,10 @@ namespace pslam::server {
 
 inline constexpr std::size_t kTileFrameHeader = 24;
 inline constexpr std::uint8_t kTileEncodingPercent = 1;  // u8 per cell: 0..100 % occupied, 255 unknown
+inline constexpr std::size_t kScanFrameHeader = 40;
+inline constexpr std::uint8_t kScanEncodingCentimetres = 1;  // u16 per beam, 65535 no return
+inline constexpr std::uint16_t kScanNoReturn = 65535;
+inline constexpr std::size_t kParticleFrameHeader = 8;
 
 using Bytes = std::shared_ptr<const std::string>;
 using TileKey = std::pair<int, int>;
@@ -40,6 +45,9 @@ struct LiveDelta {
 };
 
 Bytes EncodeTileFrame(int tx, int ty, std::uint64_t revision, std::span<const std::uint8_t> zlib_cells);
+// The scan with the sensor's pose in the map frame ('robot' * the scan's sensor offset).
+Bytes EncodeScanFrame(std::int64_t seq, const LaserScan& scan, const Pose2D& robot);
+Bytes EncodeParticleFrame(std::span<const Pose2D> poses, std::span<const double> weights);
 Bytes TrajectoryMessage(std::int64_t first_index, std::span<const TrajectoryRow> rows);
 Bytes SessionStatusMessage(const std::string& session_id, const std::string& status);
 inline Bytes MakeBytes(std::string s) { return std::make_shared<const std::string>(std::move(s)); }
@@ -57,6 +65,7 @@ class LiveState {
  private:
   std::string session_id_;
   double resolution_;
+  std::int64_t scan_seq_ = 0;  // of the last scan frame: an unchanged scan is not sent again
   std::map<TileKey, Bytes> tiles_;
   std::vector<TrajectoryRow> trajectory_;
   nlohmann::json pose_, particles_, stats_, exploration_;

@@ -2,7 +2,7 @@
 // jitter after any loss (a server restart, a network drop), and resubscribes simply by opening the
 // socket again: the server answers every new subscriber with a full snapshot. Messages are decoded
 // and checked here; invalid ones are reported, never thrown.
-import { decodeLiveMessage, type LiveMessage } from './protocol';
+import { binaryKind, decodeLiveMessage, decodeParticleFrame, decodeScanFrame, type Decoded, type LiveMessage } from './protocol';
 
 export type ConnectionState = 'connecting' | 'open' | 'reconnecting' | 'stopped' | 'failed';
 
@@ -126,9 +126,16 @@ export class LiveConnection {
     // Any message proves the link works: the next loss starts the backoff from the beginning.
     this.attempt = 0;
     if (data instanceof ArrayBuffer) {
-      this.counters.tiles++;
       this.counters.bytes += data.byteLength;
-      this.handlers.onTile(data);
+      const kind = binaryKind(data);
+      if (kind === 'tile') {
+        this.counters.tiles++;
+        this.handlers.onTile(data);
+        return;
+      }
+      this.counters.messages++;
+      if (kind === 'unknown') return this.invalid('a binary frame of unknown kind');
+      this.deliver(kind === 'scan' ? decodeScanFrame(data) : decodeParticleFrame(data));
       return;
     }
     if (typeof data !== 'string') return;
@@ -138,17 +145,20 @@ export class LiveConnection {
     try {
       raw = JSON.parse(data);
     } catch {
-      this.counters.invalid++;
-      this.handlers.onInvalid('a message that is not JSON');
+      this.invalid('a message that is not JSON');
       return;
     }
-    const decoded = decodeLiveMessage(raw);
-    if (!decoded.ok) {
-      this.counters.invalid++;
-      this.handlers.onInvalid(decoded.error);
-      return;
-    }
-    this.handlers.onMessage(decoded.value);
+    this.deliver(decodeLiveMessage(raw));
+  }
+
+  private invalid(error: string): void {
+    this.counters.invalid++;
+    this.handlers.onInvalid(error);
+  }
+
+  private deliver(decoded: Decoded<LiveMessage>): void {
+    if (decoded.ok) this.handlers.onMessage(decoded.value);
+    else this.invalid(decoded.error);
   }
 
   private scheduleReconnect(reason: string): void {

@@ -1,5 +1,5 @@
 // The live view protocol of pslam-server (schema/ws/live.md), version 1: JSON text messages for
-// state and binary tile frames for the map. Everything that arrives is checked here, at the
+// state and binary frames for the map tiles, the laser scan and the particles. Everything that arrives is checked here, at the
 // boundary; a message that fails is reported as a value (shown in the UI), never thrown.
 import { unzlibSync } from 'fflate';
 
@@ -111,6 +111,7 @@ export interface ErrorMessage {
 // The current laser scan in the map frame: the sensor pose and the ranges (null: no return).
 export interface ScanMessage {
   type: 'scan';
+  seq?: number; // of the scan's input (binary frames)
   pose: Pose;
   angle_min: number;
   angle_increment: number;
@@ -266,10 +267,6 @@ export function decodeLiveMessage(raw: unknown): Decoded<LiveMessage> {
     case 'pose':
       if (!checkPose(m)) return fail('pose needs x, y and theta');
       return ok({ type: 'pose', x: m.x, y: m.y, theta: m.theta });
-    case 'particles': {
-      const e = checkRows(m.poses, 3, 'particles.poses');
-      return e ? fail(e) : ok({ type: 'particles', poses: m.poses as ParticlePose[] });
-    }
     case 'stats':
       if (!isObject(m.stats)) return fail('stats.stats must be an object');
       return ok({ type: 'stats', stats: m.stats as EngineStats });
@@ -298,8 +295,6 @@ export function decodeLiveMessage(raw: unknown): Decoded<LiveMessage> {
       return ok({ type: 'session', session_id: String(m.session_id ?? ''), status: m.status });
     case 'error':
       return ok({ type: 'error', code: String(m.code ?? 'error'), message: String(m.message ?? '') });
-    case 'scan':
-      return decodeScan(m);
     default:
       return fail(`unknown message type '${String(m.type).slice(0, 40)}'`);
   }
@@ -384,5 +379,94 @@ export function encodeTileFrame(tile: Tile, zlib: (data: Uint8Array) => Uint8Arr
   view.setUint32(16, tile.revision % 2 ** 32, true);
   view.setUint32(20, Math.floor(tile.revision / 2 ** 32), true);
   out.set(payload, kTileHeaderBytes);
+  return out;
+}
+
+// Which binary frame this is, by its magic.
+export type BinaryKind = 'tile' | 'scan' | 'particles' | 'unknown';
+
+export function binaryKind(frame: ArrayBuffer | Uint8Array): BinaryKind {
+  const b = frame instanceof Uint8Array ? frame : new Uint8Array(frame);
+  if (b.length < 4 || b[0] !== 0x50 || b[1] !== 0x53) return 'unknown'; // 'PS'
+  const tag = String.fromCharCode(b[2], b[3]);
+  return tag === 'TL' ? 'tile' : tag === 'SC' ? 'scan' : tag === 'PT' ? 'particles' : 'unknown';
+}
+
+// Binary scan frame, little-endian:
+//   0 'PSSC' | 4 u16 beams | 6 u8 encoding | 7 u8 reserved | 8 i64 seq | 16 f32 x, y, theta (sensor, map
+//   frame) | 28 f32 angle_min | 32 f32 angle_increment | 36 f32 max_range | 40 u16 ranges (cm).
+// Encoding 1: centimetres, 65535 no return.
+export const kScanHeaderBytes = 40;
+export const kScanNoReturn = 65535;
+export const kParticleHeaderBytes = 8;
+export const kMaxParticles = 2000;
+
+const viewOf = (frame: ArrayBuffer | Uint8Array) => {
+  const bytes = frame instanceof Uint8Array ? frame : new Uint8Array(frame);
+  return { bytes, view: new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength) };
+};
+
+export function decodeScanFrame(frame: ArrayBuffer | Uint8Array): Decoded<ScanMessage> {
+  const { bytes, view } = viewOf(frame);
+  if (binaryKind(bytes) !== 'scan') return fail('scan frame without PSSC magic');
+  if (bytes.length < kScanHeaderBytes) return fail('scan frame shorter than its header');
+  const beams = view.getUint16(4, true);
+  const encoding = view.getUint8(6);
+  if (encoding !== 1) return fail(`scan frame: unknown encoding ${encoding}`);
+  if (bytes.length !== kScanHeaderBytes + 2 * beams) return fail(`scan frame: ${bytes.length} bytes for ${beams} beams`);
+  const pose = { x: view.getFloat32(16, true), y: view.getFloat32(20, true), theta: view.getFloat32(24, true) };
+  const angle_min = view.getFloat32(28, true);
+  const angle_increment = view.getFloat32(32, true);
+  const max_range = view.getFloat32(36, true);
+  if (![pose.x, pose.y, pose.theta, angle_min, angle_increment, max_range].every(Number.isFinite)) {
+    return fail('scan frame: pose or angles not finite');
+  }
+  const ranges: (number | null)[] = new Array(beams);
+  for (let i = 0; i < beams; i++) {
+    const cm = view.getUint16(kScanHeaderBytes + 2 * i, true);
+    ranges[i] = cm === kScanNoReturn ? null : cm / 100;
+  }
+  return ok({ type: 'scan', seq: Number(view.getBigInt64(8, true)), pose, angle_min, angle_increment, max_range, ranges });
+}
+
+// Binary particle frame, little-endian: 0 'PSPT' | 4 u32 count | 8 (f32 x, y, theta, weight) per particle.
+export function decodeParticleFrame(frame: ArrayBuffer | Uint8Array): Decoded<ParticlesMessage> {
+  const { bytes, view } = viewOf(frame);
+  if (binaryKind(bytes) !== 'particles') return fail('particle frame without PSPT magic');
+  if (bytes.length < kParticleHeaderBytes) return fail('particle frame shorter than its header');
+  const n = view.getUint32(4, true);
+  if (n > kMaxParticles) return fail(`particle frame: ${n} particles, at most ${kMaxParticles}`);
+  if (bytes.length !== kParticleHeaderBytes + 16 * n) return fail(`particle frame: ${bytes.length} bytes for ${n} particles`);
+  const poses: ParticlePose[] = new Array(n);
+  for (let i = 0; i < n; i++) {
+    const at = kParticleHeaderBytes + 16 * i;
+    const p: ParticlePose = [view.getFloat32(at, true), view.getFloat32(at + 4, true), view.getFloat32(at + 8, true), view.getFloat32(at + 12, true)];
+    if (!p.every(Number.isFinite)) return fail(`particle frame: particle ${i} not finite`);
+    poses[i] = p;
+  }
+  return ok({ type: 'particles', poses });
+}
+
+// Encoders, for tests: the frames as the server's live codec writes them.
+export function encodeScanFrame(scan: ScanMessage, seq: number): Uint8Array {
+  const out = new Uint8Array(kScanHeaderBytes + 2 * scan.ranges.length);
+  const view = new DataView(out.buffer);
+  out.set([0x50, 0x53, 0x53, 0x43], 0);
+  view.setUint16(4, scan.ranges.length, true);
+  view.setUint8(6, 1);
+  view.setBigInt64(8, BigInt(seq), true);
+  [scan.pose.x, scan.pose.y, scan.pose.theta, scan.angle_min, scan.angle_increment, scan.max_range ?? 0].forEach((v, i) =>
+    view.setFloat32(16 + 4 * i, v, true),
+  );
+  scan.ranges.forEach((r, i) => view.setUint16(kScanHeaderBytes + 2 * i, r === null ? kScanNoReturn : Math.round(r * 100), true));
+  return out;
+}
+
+export function encodeParticleFrame(poses: ParticlePose[]): Uint8Array {
+  const out = new Uint8Array(kParticleHeaderBytes + 16 * poses.length);
+  const view = new DataView(out.buffer);
+  out.set([0x50, 0x53, 0x50, 0x54], 0);
+  view.setUint32(4, poses.length, true);
+  poses.forEach((p, i) => p.forEach((v, k) => view.setFloat32(kParticleHeaderBytes + 16 * i + 4 * k, v, true)));
   return out;
 }
