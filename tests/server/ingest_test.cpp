@@ -1,5 +1,6 @@
 // Ingest over the real server: acknowledged means stored, resends are idempotent, kill -9 loses
-// nothing acknowledged, a restarted server resumes the session from its stored inputs.
+// nothing acknowledged, a restarted server resumes the session from its stored inputs, an agent
+// that outruns the filter is paused and resumed (never dropped), and the agent gets targets.
 #include <gtest/gtest.h>
 
 #include <csignal>
@@ -154,6 +155,44 @@ TEST(IngestTest, GracefulShutdownKeepsTheSessionForTheNextStart) {
   ServerProcess restarted(dir.path() / "data");
   ASSERT_TRUE(WaitProcessed(restarted.port(), id, 10));
   EXPECT_EQ(Get(restarted.port(), "/api/sessions/" + id).Json()["status"], "active");
+}
+
+TEST(IngestTest, AFloodOfScansIsPausedAndResumedUntilEveryOneIsAcknowledged) {
+  TempDir dir;
+  // A small in-flight limit, so the filter falls behind and the ingest has to pause the agent.
+  ServerProcess server(dir.path() / "data", {"--max-inflight", "8"});
+  WsClient agent(server.port(), "/api/ingest");
+  const std::string id = OpenSession(agent);
+  constexpr std::int64_t kScans = 400;
+  for (std::int64_t seq = 1; seq <= kScans; ++seq) ASSERT_TRUE(SendScan(agent, seq, true)) << "send " << seq;
+  EXPECT_EQ(WaitForAck(agent, kScans, std::chrono::seconds(60)), kScans);
+  EXPECT_TRUE(agent.open());
+  int overloaded = 0;
+  for (const auto& m : agent.skipped) {
+    if (m.value("type", "") == "error") {
+      EXPECT_EQ(m.value("code", ""), "overloaded") << m.dump();
+      ++overloaded;
+    }
+  }
+  EXPECT_GE(overloaded, 1) << "the agent was never paused: the test did not exercise back-pressure";
+  EXPECT_TRUE(WaitProcessed(server.port(), id, kScans));
+}
+
+TEST(IngestTest, TheAgentIsSentExplorationTargets) {
+  TempDir dir;
+  ServerProcess server(dir.path() / "data");
+  WsClient agent(server.port(), "/api/ingest");
+  OpenSession(agent);
+  for (std::int64_t seq = 1; seq <= 40; ++seq) ASSERT_TRUE(SendScan(agent, seq, true));
+  ASSERT_EQ(WaitForAck(agent, 40), 40);
+  std::optional<nlohmann::json> target;
+  for (const auto& m : agent.skipped) {
+    if (m.value("type", "") == "target") target = m;
+  }
+  if (!target) target = agent.ReadType("target");
+  ASSERT_TRUE(target) << "no target within 10 s of the last ack";
+  EXPECT_TRUE((*target)["target"].contains("x"));
+  EXPECT_TRUE((*target)["path"].is_array());
 }
 
 }  // namespace

@@ -180,8 +180,8 @@ void IngestSession::Disconnect(const std::string& code, const std::string& reaso
   net::post(ws_.get_executor(), [self = shared_from_this(), code, reason] {
     self->runtime_.reset();  // the service has let go of us already
     self->Send(ErrorMessage(code, reason));
-    self->CloseAfterSending(code == "storage_error" ? websocket::close_code::internal_error : websocket::close_code::normal,
-                            code);
+    const bool internal = code == "storage_error" || code == "engine_failed";
+    self->CloseAfterSending(internal ? websocket::close_code::internal_error : websocket::close_code::normal, code);
   });
 }
 

@@ -85,11 +85,19 @@ std::shared_ptr<SessionRuntime> MappingService::Launch(const SessionRow& row, co
     std::cerr << "session " << id << ": engine failed: " << error << "\n";
     LogEvent(id, "engine_failed", {{"error", error}});
     writer_.Submit([id](SessionRepository& repo) { repo.SetStatus(id, "failed", UnixNow()); });
-    if (const auto runtime = weak.lock()) {
+    const auto runtime = weak.lock();
+    if (!runtime) return;
+    std::shared_ptr<AgentLink> agent;
+    {
       std::lock_guard lock(runtime->mutex);
       runtime->closing = true;
+      runtime->agent_waiting = false;
+      agent = runtime->agent.lock();
+      runtime->agent.reset();
       runtime->progress.notify_all();
     }
+    // The filter will never catch up: an agent paused for back-pressure would wait forever.
+    if (agent) agent->Disconnect("engine_failed", "the session's filter failed; it is closed as failed");
   };
   SessionSettings engine_settings = settings;
   engine_settings.plan_targets = row.source == "agent";
