@@ -27,11 +27,16 @@ OccupancyField::OccupancyField(const OccupancyGrid& grid, int level)
 
 float OccupancyField::Coarse(int i, int j) const {
   if (level_ == 0) return CellEvidence(grid_.At(i, j));
+  // A match reads the same few hundred pooled cells over and over: remember them.
+  const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) | static_cast<std::uint32_t>(j);
+  const auto [it, inserted] = pooled_.try_emplace(key, 0.0f);
+  if (!inserted) return it->second;
   const int n = 1 << level_;
   float best = 0.0f;
   for (int y = j * n; y < (j + 1) * n; ++y) {
     for (int x = i * n; x < (i + 1) * n; ++x) best = std::max(best, CellEvidence(grid_.At(x, y)));
   }
+  it->second = best;
   return best;
 }
 

@@ -4,6 +4,8 @@
 // levels take the maximum over 2^k x 2^k blocks of cells, which widens the basin of convergence
 // without storing extra maps per particle.
 #include <Eigen/Core>
+#include <cstdint>
+#include <unordered_map>
 
 #include "pslam/grid/occupancy_grid.hpp"
 
@@ -23,6 +25,7 @@ class OccupancyField {
   const OccupancyGrid& grid_;
   int level_;
   double cell_size_;
+  mutable std::unordered_map<std::uint64_t, float> pooled_;  // coarse levels: pooled cell values read so far
 };
 
 // Table lookup of max(0, 2p - 1) for a stored cell value.
