@@ -54,5 +54,28 @@ TEST_F(ScanMatcherTest, LikelihoodPrefersTheTruePose) {
   EXPECT_LE(at_truth.unexplored_points, 3);
 }
 
+// A beam cannot end inside a wall it had to cross first: with the free-space check an endpoint at
+// the back of a thick wall scores worse than one on its face; without it both score as hits.
+TEST(ScanLikelihoodTest, FreeSpaceCheckRejectsEndpointsBehindAWall) {
+  OccupancyGrid grid(0.05);
+  for (int cy = -10; cy <= 10; ++cy) {
+    for (int cx = 0; cx < 20; ++cx) grid.MutableAt(cx, cy) = -2000;    // free in front of the wall
+    for (int cx = 20; cx <= 22; ++cx) grid.MutableAt(cx, cy) = 3000;  // a wall three cells thick
+  }
+  const Pose2D robot;  // at the origin, looking along +x at the wall's face (x = 1.0 m)
+  const std::vector<Eigen::Vector2f> on_face{grid.CellCenter({20, 0}).cast<float>()};
+  const std::vector<Eigen::Vector2f> at_back{grid.CellCenter({22, 0}).cast<float>()};
+  LikelihoodOptions checked;
+  checked.point_step = 1;
+  LikelihoodOptions unchecked = checked;
+  unchecked.free_space_check = false;
+
+  EXPECT_NEAR(ComputeScanLikelihood(grid, at_back, robot, unchecked).Total(false), 0.0, 1e-9);
+  EXPECT_NEAR(ComputeScanLikelihood(grid, on_face, robot, checked).Total(false), 0.0, 1e-9);
+  const ScanLikelihood behind = ComputeScanLikelihood(grid, at_back, robot, checked);
+  EXPECT_EQ(behind.explored_points, 1);
+  EXPECT_LT(behind.Total(false), -1.0);  // scored by the face, two cells away
+}
+
 }  // namespace
 }  // namespace pslam

@@ -25,13 +25,18 @@ template <typename Group, typename T>
 Setter Nested(Group RbpfOptions::*group, T Group::*member) {
   return [group, member](RbpfOptions& o, const std::string& v) { return ParseNumber(v, (o.*group).*member); };
 }
+std::string ParseFlag(const std::string& text, bool& out) {
+  if (text == "true" || text == "1") out = true;
+  else if (text == "false" || text == "0") out = false;
+  else return "not a boolean: '" + text + "'";
+  return "";
+}
 Setter Flag(bool RbpfOptions::*member) {
-  return [member](RbpfOptions& o, const std::string& v) -> std::string {
-    if (v == "true" || v == "1") o.*member = true;
-    else if (v == "false" || v == "0") o.*member = false;
-    else return "not a boolean: '" + v + "'";
-    return "";
-  };
+  return [member](RbpfOptions& o, const std::string& v) { return ParseFlag(v, o.*member); };
+}
+template <typename Group>
+Setter NestedFlag(Group RbpfOptions::*group, bool Group::*member) {
+  return [group, member](RbpfOptions& o, const std::string& v) { return ParseFlag(v, (o.*group).*member); };
 }
 
 const std::map<std::string, Setter>& Setters() {
@@ -68,6 +73,7 @@ const std::map<std::string, Setter>& Setters() {
       {"likelihood.sigma", Nested(&RbpfOptions::likelihood, &LikelihoodOptions::sigma)},
       {"likelihood.window_cells", Nested(&RbpfOptions::likelihood, &LikelihoodOptions::window_cells)},
       {"likelihood.point_step", Nested(&RbpfOptions::likelihood, &LikelihoodOptions::point_step)},
+      {"likelihood.free_space_check", NestedFlag(&RbpfOptions::likelihood, &LikelihoodOptions::free_space_check)},
       {"motion.rotation_per_rotation", Nested(&RbpfOptions::motion, &MotionNoise::rotation_per_rotation)},
       {"motion.rotation_per_translation", Nested(&RbpfOptions::motion, &MotionNoise::rotation_per_translation)},
       {"motion.translation_per_translation", Nested(&RbpfOptions::motion, &MotionNoise::translation_per_translation)},

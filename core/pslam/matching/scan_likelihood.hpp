@@ -20,6 +20,10 @@ struct LikelihoodOptions {
   int window_cells = 2;            // search radius for the nearest occupied cell
   double occupied_probability = 0.6;
   int point_step = 2;              // score every n-th endpoint
+  // A wall explains an endpoint only if the cell in front of it, toward the sensor, is not
+  // occupied too: a beam cannot have crossed a wall to end behind it. This keeps a map with a
+  // doubled wall (a misclosed loop) from scoring better than a consistent one.
+  bool free_space_check = true;
 };
 
 struct ScanLikelihood {
