@@ -37,7 +37,10 @@ struct RbpfOptions {
 
   ScanPointsOptions points{.max_usable_range = 20.0, .no_return_free_range = 0.0, .min_point_spacing = 0.03};
   ScanInsertOptions insert;
-  ScanMatchOptions tracking_match{.coarsest_level = 2};
+  // Tracking starts from odometry alone and must also pull the pose back onto old structure when
+  // the robot returns to it after a long excursion (the last loop of the Intel log): it matches
+  // from 40 cm pooled cells down. Particles start from the tracked pose and need less.
+  ScanMatchOptions tracking_match{.coarsest_level = 3};
   ScanMatchOptions particle_match{.coarsest_level = 1};
   LikelihoodOptions likelihood;
   MotionNoise motion;
