@@ -77,6 +77,16 @@ TEST(HypothesisJudgeTest, MissingPredictedWallsRefute) {
   EXPECT_EQ(JudgeAfter(120, -1), Verdict::kRefuted);
 }
 
+TEST(HypothesisJudgeTest, UndecidedCellsAreNoEvidence) {
+  // The predicted wall is seen as a wall along its first half; along the second half the laser
+  // has only grazed it once, and those cells are still uncertain (p = 0.48).
+  Hypothesis h;
+  for (int x = 0; x < 200; ++x) h.cells.push_back({{x, 0}, true});
+  OccupancyGrid map(kResolution);
+  for (int x = 0; x < 200; ++x) map.MutableAt(x, 0) = x < 100 ? kOccupied : OccupancyGrid::Cell{-100};
+  EXPECT_DOUBLE_EQ(GatherEvidence(h, map, {}, 1).psi, 1.0);
+}
+
 TEST(HypothesisJudgeTest, FullySeenIsJudgedWhateverItsStructure) {
   Hypothesis h;
   for (int x = 0; x < 20; ++x) h.cells.push_back({{x, 0}, true});  // 1 m of wall

@@ -25,10 +25,10 @@ double ObservedSimilarity(const Hypothesis& hypothesis, const OccupancyGrid& lat
   CellRaster predicted(box.min, box.width(), box.height());
   for (const HypothesisCell& c : hypothesis.cells) {
     if (!observed.Contains(c.cell)) continue;
-    const OccupancyGrid::Cell value = later_map.At(c.cell.x(), c.cell.y());
-    if (value == OccupancyGrid::kUnknown) continue;
+    const CellState state = classify(later_map.At(c.cell.x(), c.cell.y()));
+    if (state != CellState::kOccupied && state != CellState::kFree) continue;  // not decided yet
     const Eigen::Vector2i local = c.cell - box.min;
-    observed.Local(local.x(), local.y()) = classify(value);
+    observed.Local(local.x(), local.y()) = state;
     predicted.Local(local.x(), local.y()) = c.occupied ? CellState::kOccupied : CellState::kFree;
   }
   return Similarity(observed, predicted, tolerance_cells);
