@@ -34,10 +34,14 @@ double ObservedSimilarity(const Hypothesis& hypothesis, const OccupancyGrid& lat
   return Similarity(observed, predicted, tolerance_cells);
 }
 
-std::size_t RemoveExplored(Hypothesis& hypothesis, const OccupancyGrid& map) {
-  const std::size_t before = hypothesis.cells.size();
-  std::erase_if(hypothesis.cells, [&](const HypothesisCell& c) { return map.IsKnown(c.cell.x(), c.cell.y()); });
-  return before - hypothesis.cells.size();
+std::vector<HypothesisCell> TakeExplored(Hypothesis& hypothesis, const OccupancyGrid& map) {
+  auto& cells = hypothesis.cells;
+  const auto seen = std::stable_partition(cells.begin(), cells.end(), [&](const HypothesisCell& c) {
+    return !map.IsKnown(c.cell.x(), c.cell.y());
+  });
+  std::vector<HypothesisCell> taken(seen, cells.end());
+  cells.erase(seen, cells.end());
+  return taken;
 }
 
 }  // namespace pslam

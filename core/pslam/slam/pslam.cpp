@@ -1,6 +1,5 @@
 #include "pslam/slam/pslam.hpp"
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <thread>
@@ -25,16 +24,6 @@ std::vector<PredictedCell> ToPredictedCells(const Hypothesis& h) {
 bool Weighing(Hypothesis::Status s) { return s == Hypothesis::Status::kPending || s == Hypothesis::Status::kConfirmed; }
 // Hypotheses that stand for unexplored space: all but the refuted.
 bool Covering(Hypothesis::Status s) { return s != Hypothesis::Status::kRefuted; }
-
-// V of eq. 20: takes the cells 'map' has observed out of 'h' and returns them.
-std::vector<HypothesisCell> TakeExplored(Hypothesis& h, const OccupancyGrid& map) {
-  const auto seen = std::stable_partition(h.cells.begin(), h.cells.end(), [&](const HypothesisCell& c) {
-    return !map.IsKnown(c.cell.x(), c.cell.y());
-  });
-  std::vector<HypothesisCell> taken(seen, h.cells.end());
-  h.cells.erase(seen, h.cells.end());
-  return taken;
-}
 
 }  // namespace
 
