@@ -38,6 +38,8 @@ struct ExploreRow {
   std::vector<double> psi_truth;   // per accepted hypothesis, against the true world
   double merged_psi = std::numeric_limits<double>::quiet_NaN();
   double merged_area_m2 = 0.0;
+  int judged = 0;                  // hypotheses confirmed or refuted by P-SLAM's judge
+  int judged_as_truth = 0;         // of which the verdict matches Psi vs truth >= confirm_psi
 };
 
 std::string RowJson(const ExploreRow& row) {
@@ -54,6 +56,13 @@ std::string RowJson(const ExploreRow& row) {
                      {"confirmed", JsonNumber(s.slam.confirmed)},
                      {"refuted", JsonNumber(s.slam.refuted)},
                      {"expired", JsonNumber(s.slam.expired)},
+                     {"new_targets", JsonNumber(s.slam.new_targets)},
+                     {"predictions", JsonNumber(s.slam.predictions_made)},
+                     {"no_control_point", JsonNumber(static_cast<double>(s.slam.outcomes.no_control_point))},
+                     {"too_little_structure", JsonNumber(static_cast<double>(s.slam.outcomes.too_little_structure))},
+                     {"below_threshold", JsonNumber(static_cast<double>(s.slam.outcomes.below_threshold))},
+                     {"judged", JsonNumber(row.judged)},
+                     {"judged_as_truth", JsonNumber(row.judged_as_truth)},
                      {"mean_position_error_m", JsonNumber(s.mean_position_error_m)},
                      {"max_position_error_m", JsonNumber(s.max_position_error_m)},
                      {"map_psi", JsonNumber(row.map_psi)},
@@ -97,6 +106,15 @@ ExploreRow RunOne(const std::string& name, const WorldChoice& world, const Occup
   row.summary = RunExplorationWithProgress(run, name + " seed " + std::to_string(row.seed), progress);
   row.map_psi = BuiltMapSimilarity(run.slam().filter().best().map, truth);
   for (const auto& cells : AcceptedCellsInWorld(run)) row.psi_truth.push_back(PredictionSimilarity(cells, truth));
+  // P-SLAM keeps its hypotheses in acceptance order, like accepted_hypotheses().
+  const std::vector<Hypothesis>& judged = run.slam().hypotheses();
+  for (std::size_t i = 0; i < judged.size() && i < row.psi_truth.size(); ++i) {
+    const bool confirmed = judged[i].status == Hypothesis::Status::kConfirmed;
+    if (!confirmed && judged[i].status != Hypothesis::Status::kRefuted) continue;
+    if (!std::isfinite(row.psi_truth[i])) continue;
+    ++row.judged;
+    row.judged_as_truth += confirmed == (row.psi_truth[i] >= options.slam.judge.confirm_psi);
+  }
   if (options.slam.predict) {
     const std::vector<HypothesisCell> merged =
         MergedPredictedCells(run.slam(), [&run](int id) { return AcceptedMapToWorld(run, id); });
@@ -174,7 +192,11 @@ int RunExploreExperiment(CliArgs& cli) {
     }
     const double mean_full = FiniteMean(time_full), mean_skip = FiniteMean(time_skip);
     const double saved = mean_full > 0.0 ? (mean_full - mean_skip) / mean_full : 0.0;
-    int scored = 0, good = 0;
+    int scored = 0, good = 0, judged = 0, judged_as_truth = 0;
+    for (const ExploreRow& row : skip_rows) {
+      judged += row.judged;
+      judged_as_truth += row.judged_as_truth;
+    }
     const double mean_hypothesis_psi = FiniteMean(hypothesis_psi, &scored);
     for (const double v : hypothesis_psi) good += v >= 0.5;
     std::printf("exploration time         RBPF full %.1f s, P-SLAM %s %.1f s (mean of %d): %.1f %% saved  (paper: 684 s -> 457 s, 33 %%)\n",
@@ -183,6 +205,8 @@ int RunExploreExperiment(CliArgs& cli) {
                 FiniteMean(merged_psi));
     std::printf("hypotheses               %zu accepted, Psi vs true world: mean %.3f over %d, %d with Psi >= 0.5\n",
                 hypothesis_psi.size(), mean_hypothesis_psi, scored, good);
+    std::printf("judge vs true world      %d of %d confirmed/refuted hypotheses agree with Psi vs truth >= %.2f\n",
+                judged_as_truth, judged, options.slam.judge.confirm_psi);
     std::printf("built map vs true world  Psi RBPF %.3f, P-SLAM %.3f\n", FiniteMean(map_psi_full), FiniteMean(map_psi_skip));
     if (unfinished) std::printf("note: a run did not finish exploring (see state); its time is a lower bound\n");
 

@@ -102,7 +102,8 @@ int RunLatencyExperiment(CliArgs& cli) {
                                  {"wall_median_ms", JsonNumber(stats.median_ms)},
                                  {"wall_p95_ms", JsonNumber(stats.p95_ms)},
                                  {"cpu_ms", JsonArray(stats.cpu_ms)},
-                                 {"wall_ms", JsonArray(stats.ms)}}));
+                                 {"wall_ms", JsonArray(stats.ms)},
+                                 {"best_psi", JsonArray(stats.best_psi)}}));
     }
     if (json_path) {
       WriteJsonFile(*json_path, JsonObject({{"experiment", JsonString("latency")},

@@ -35,7 +35,7 @@ constexpr const char* kUsage =
     "  P-SLAM predicts the structure ahead of the robot (the target is the frontier it heads toward)\n"
     "  and weighs particles with the predictions; --no-predict runs the plain RBPF, --no-recovery\n"
     "  keeps predictions in use even when hit ratios say they are wrong. --hypotheses writes every\n"
-    "  hypothesis as JSON, --merged-map the map with pending and confirmed predictions merged in.\n";
+    "  hypothesis as JSON, --merged-map the map with the predictions not refuted merged in.\n";
 
 double PeakRssMiB() {
   rusage usage{};

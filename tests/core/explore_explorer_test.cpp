@@ -68,6 +68,37 @@ TEST(ExploreExplorerTest, SkipPredictedSkipsAFullyCoveredCluster) {
   EXPECT_EQ(all.skipped, 2);
 }
 
+TEST(ExploreExplorerTest, PredictedWallsStopTheCoveredFlood) {
+  // Left of the left opening a hypothesis covers a 0.5 m band (x in [-10, -1] cells) and predicts
+  // its far column as a wall. Behind that wall lies unknown space nothing predicts, such as an
+  // obstacle's interior; the robot would not reveal it by going to this frontier.
+  const OccupancyGrid grid = RoomWithTwoOpenings();
+  const CoveredPredicate covered = [](const Eigen::Vector2i& c) { return c.x() >= -10 && c.x() < 0; };
+  const CoveredPredicate wall = [](const Eigen::Vector2i& c) { return c.x() == -10; };
+  const FrontierCluster* left = nullptr;
+  const std::vector<FrontierCluster> clusters = FindFrontierClusters(grid, FrontierOptions{});
+  for (const FrontierCluster& c : clusters) {
+    if (c.centroid.x() < 1.0) left = &c;
+  }
+  ASSERT_NE(left, nullptr);
+  const auto flooded = CoveredFraction(grid, *left, 2.0, CellClassOptions{}, covered);
+  const auto walled = CoveredFraction(grid, *left, 2.0, CellClassOptions{}, covered, wall);
+  ASSERT_TRUE(flooded && walled);
+  EXPECT_LT(*flooded, 0.5);  // the flood runs on behind the wall
+  EXPECT_GT(*walled, 0.9);   // only the corner around the room's outside is left uncovered
+
+  // So the explorer skips the left opening with the walls, and goes there without them.
+  ExploreOptions options;
+  options.mode = ExploreMode::kSkipPredicted;
+  ExploreRequest request = RobotAt(1.5, 2.0);
+  request.covered = covered;
+  EXPECT_LT(SelectNextTarget(grid, request, options).target->position.x(), 0.1);
+  request.predicted_wall = wall;
+  const ExploreDecision decision = SelectNextTarget(grid, request, options);
+  EXPECT_EQ(decision.skipped, 1);
+  EXPECT_GT(decision.target->position.x(), 5.9);
+}
+
 TEST(ExploreExplorerTest, PartlyCoveredClustersAreStillExplored) {
   const OccupancyGrid grid = RoomWithTwoOpenings();
   const auto clusters = FindFrontierClusters(grid);

@@ -8,6 +8,7 @@
 
 #include "pslam/predict/alignment.hpp"
 #include "pslam/predict/predictor_options.hpp"
+#include "pslam/predict/region_matcher.hpp"
 #include "pslam/predict/structure_predictor.hpp"
 
 namespace pslam {
@@ -104,6 +105,30 @@ TEST(PredictAlignment, GammaMapsReferenceControlPointOntoTargetAndRotatesByTheta
   EXPECT_NEAR((alignment.ToTarget(p2 + q) - (Eigen::Rotation2Dd(theta) * q + p2 + (p1 - p2))).norm(), 0.0, 1e-12);
 }
 
+TEST(PredictRegionMatcher, CoarsePsiEstimatesPsiOnAQuarterOfTheCells) {
+  // A window of rooms; S_f is a copy of its middle. Aligned onto itself both scores are 1, and a
+  // misalignment scores about the same on the sampled quarter as on every cell.
+  CellRaster window = FreeRaster(120, 120);
+  for (int k = 0; k <= 120; k += 20) {
+    if (k < 120) HorizontalWall(window, k, 0, 119);
+    if (k < 120) VerticalWall(window, k, 0, 119);
+  }
+  VerticalWall(window, 47, 30, 90);  // something off the lattice
+  CellRaster target({30, 30}, 60, 60, CellState::kFree);
+  for (int y = 0; y < 60; ++y) {
+    for (int x = 0; x < 60; ++x) target.Local(x, y) = window.Local(x + 30, y + 30);
+  }
+  const RegionMatcher matcher(window, target, 1);
+  const Alignment same{{60.0, 60.0}, {60.0, 60.0}, 0.0};
+  EXPECT_DOUBLE_EQ(matcher.Psi(same), 1.0);
+  EXPECT_DOUBLE_EQ(matcher.CoarsePsi(same), 1.0);
+  for (const Alignment& off : {Alignment{{60.0, 60.0}, {63.0, 60.0}, 0.0}, Alignment{{60.0, 60.0}, {60.0, 60.0}, 0.1}}) {
+    const double exact = matcher.Psi(off);
+    EXPECT_LT(exact, 0.9);
+    EXPECT_NEAR(matcher.CoarsePsi(off), exact, 0.1);
+  }
+}
+
 TEST(PredictOptions, ThresholdOutsideThePapersRangeIsRejected) {
   PredictorOptions options;
   EXPECT_FALSE(ValidatePredictorOptions(options).has_value());
@@ -118,6 +143,9 @@ TEST(PredictOptions, ThresholdOutsideThePapersRangeIsRejected) {
   EXPECT_TRUE(ValidatePredictorOptions(options).has_value());
   options = {};
   options.max_reference_corners = 0;
+  EXPECT_TRUE(ValidatePredictorOptions(options).has_value());
+  options = {};
+  options.coarse_rescored = -1;
   EXPECT_TRUE(ValidatePredictorOptions(options).has_value());
 }
 

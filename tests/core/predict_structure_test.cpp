@@ -302,14 +302,14 @@ TEST(StructurePredictor, NoCornerNearTheTargetNoPrediction) {
   EXPECT_FALSE(predictor.Predict(OccupancyGrid(kResolution), {0, 0}, 0.0).has_value());  // empty map
 }
 
-TEST(StructurePredictor, RemoveExploredDropsNewlyObservedCells) {
+TEST(StructurePredictor, TakeExploredDropsNewlyObservedCells) {
   const Scene scene = HalfExploredRooms();
   StructurePredictor predictor;
   auto h = predictor.Predict(scene.built, scene.target, 0.0);
   ASSERT_TRUE(h.has_value());
   const std::size_t before = h->cells.size();
   const double area = h->area_m2;
-  EXPECT_EQ(RemoveExplored(*h, scene.built), 0u);  // nothing new seen yet
+  EXPECT_TRUE(TakeExplored(*h, scene.built).empty());  // nothing new seen yet
   EXPECT_TRUE(std::isnan(ObservedSimilarity(*h, scene.built)));
 
   // The robot steps in and sees the strip x in [16.5, 18.5] m.
@@ -319,7 +319,9 @@ TEST(StructurePredictor, RemoveExploredDropsNewlyObservedCells) {
   ASSERT_GT(newly_known, 0u);
   ASSERT_LT(newly_known, before);
   EXPECT_GT(ObservedSimilarity(*h, later), 0.8);  // the observed strip agrees with the prediction
-  EXPECT_EQ(RemoveExplored(*h, later), newly_known);
+  const std::vector<HypothesisCell> taken = TakeExplored(*h, later);
+  EXPECT_EQ(taken.size(), newly_known);
+  for (const HypothesisCell& c : taken) EXPECT_TRUE(later.IsKnown(c.cell.x(), c.cell.y()));
   EXPECT_EQ(h->cells.size(), before - newly_known);
   for (const HypothesisCell& c : h->cells) EXPECT_FALSE(later.IsKnown(c.cell.x(), c.cell.y()));
   EXPECT_DOUBLE_EQ(h->area_m2, area);  // the area predicted when it was made

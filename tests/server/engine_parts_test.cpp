@@ -53,7 +53,7 @@ OccupancyGrid RoomOpenToTheRight() {
 TEST(ExplorationPlannerTest, PlansOnTheWorkerAndDropsRequestsWhileBusy) {
   std::atomic<int> ready{0};
   ExplorationPlanner planner([&] { ++ready; });
-  PlanRequest request{RoomOpenToTheRight(), OccupancyGrid(0.05), Pose2D(1.5, 1.5, 0.0), false, 12.5};
+  PlanRequest request{RoomOpenToTheRight(), PredictionCoverage(0.05), Pose2D(1.5, 1.5, 0.0), false, 12.5};
   ASSERT_TRUE(planner.Request(request));
   EXPECT_FALSE(planner.Request(request));  // one at a time
   planner.WaitIdle();
@@ -73,11 +73,13 @@ TEST(ExplorationPlannerTest, PlansOnTheWorkerAndDropsRequestsWhileBusy) {
 }
 
 TEST(ExplorationPlannerTest, SkipsFrontiersCoveredByPredictionsAndReportsDone) {
-  PlanRequest request{RoomOpenToTheRight(), OccupancyGrid(0.05), Pose2D(1.5, 1.5, 0.0), true, 0.0};
-  // Every unknown cell around the room is covered by a hypothesis.
+  PlanRequest request{RoomOpenToTheRight(), PredictionCoverage(0.05), Pose2D(1.5, 1.5, 0.0), true, 0.0};
+  // Every unknown cell around the room is covered by a hypothesis of free space.
+  std::vector<HypothesisCell> cells;
   for (int y = -60; y < 120; ++y) {
-    for (int x = -60; x < 120; ++x) request.coverage.MutableAt(x, y) = kFree;
+    for (int x = -60; x < 120; ++x) cells.push_back({{x, y}, false});
   }
+  request.coverage.Add(cells);
   const PlanResult result = Plan(request);
   EXPECT_FALSE(result.target);  // nothing left to explore
   EXPECT_EQ(result.frontiers.size(), 1u);  // the frontier is still there, only skipped

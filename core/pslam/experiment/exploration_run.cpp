@@ -116,6 +116,7 @@ bool ExplorationRun::Plan(const Pose2D& pose) {
         if (options_.observed_counts_as_covered && slam_.filter().best().map.IsKnown(cell.x(), cell.y())) return true;
         return slam_.IsCovered(cell);
       };
+      request.predicted_wall = [this](const Eigen::Vector2i& cell) { return slam_.IsPredictedWall(cell); };
     }
     const ExploreDecision decision =
         skip && options_.plan_on_merged_map ? SelectNextTarget(slam_.MergedMap(), request, options_.explore)

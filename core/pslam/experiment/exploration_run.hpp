@@ -7,7 +7,8 @@
 // The robot knows only what SLAM knows: it plans on the best particle's map from the best pose,
 // and follows the path from that pose, carried forward by odometry between scans. The simulator's
 // ground truth is used for nothing but the report (distance driven, pose error). Every planned
-// target is the P-SLAM target T_k, so the predictor predicts exactly where the robot means to go;
+// target is the P-SLAM target T_k, so the predictor predicts exactly where the robot means to go
+// (once per goal: a replanned target near the last predicted one starts no new prediction);
 // in skip-predicted mode a target that a new hypothesis covers is dropped at once and the explorer
 // chooses again, which is how P-SLAM saves exploration time.
 //

@@ -31,7 +31,7 @@ std::vector<HypothesisCell> MergedPredictedCells(const PSlam& slam, const std::f
   std::vector<HypothesisCell> cells;
   OccupancyGrid taken(map.resolution());  // a cell predicted by two hypotheses counts once, first wins
   for (const Hypothesis& h : slam.hypotheses()) {
-    if (h.status != Hypothesis::Status::kPending && h.status != Hypothesis::Status::kConfirmed) continue;
+    if (h.status == Hypothesis::Status::kRefuted) continue;  // as PSlam::MergedMap()
     std::vector<HypothesisCell> unexplored;
     for (const HypothesisCell& c : h.cells) {
       if (!map.IsKnown(c.cell.x(), c.cell.y())) unexplored.push_back(c);

@@ -29,7 +29,7 @@ double PredictionSimilarity(const std::vector<HypothesisCell>& predicted, const 
 std::vector<HypothesisCell> TransformCells(const std::vector<HypothesisCell>& cells, const Pose2D& transform,
                                            double resolution);
 
-// The predicted cells of P-SLAM's merged map: those of pending and confirmed hypotheses that the
+// The predicted cells of P-SLAM's merged map: those of the hypotheses not refuted that the
 // best map still does not know (what MergedMap() adds to the built map), each hypothesis's cells
 // moved by to_reference(its id) when given (see TransformCells); a cell predicted twice counts once.
 std::vector<HypothesisCell> MergedPredictedCells(const PSlam& slam,

@@ -93,6 +93,7 @@ LatencyStats MeasurePredictionLatency(const OccupancyGrid& map, const std::vecto
     ++stats.predictions;
     stats.ms.push_back(report.total_ms);
     stats.cpu_ms.push_back(cpu);
+    stats.best_psi.push_back(report.best_psi);
     feature_ms += report.features_ms;
     total_ms += report.total_ms;
     if (report.alignments > 0) searched_cpu_ms.push_back(cpu);

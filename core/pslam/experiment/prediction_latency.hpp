@@ -27,6 +27,7 @@ struct LatencyStats {
   int searched = 0;            // predictions that got as far as the alignment search
   std::vector<double> ms;      // wall time of each prediction, in target order
   std::vector<double> cpu_ms;  // CPU time of each
+  std::vector<double> best_psi;  // Psi of the best alignment of each (0 when none was searched)
   double median_ms = 0.0, p95_ms = 0.0, max_ms = 0.0;
   double cpu_median_ms = 0.0, cpu_p95_ms = 0.0, cpu_max_ms = 0.0;
   // CPU time over the searched predictions only: the others stop early (no corner near the

@@ -17,7 +17,8 @@ std::uint64_t Key(const Eigen::Vector2i& c) {
 }  // namespace
 
 std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierCluster& cluster, double radius,
-                                      const CellClassOptions& classes, const CoveredPredicate& covered) {
+                                      const CellClassOptions& classes, const CoveredPredicate& covered,
+                                      const CoveredPredicate& predicted_wall) {
   // Multi-source Dijkstra (8-connected step lengths) from the cluster's cells into the unknown
   // region behind them, out to 'radius': the space the robot would reveal by going there. Bounded
   // by the number of unknown cells within the radius.
@@ -40,6 +41,7 @@ std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierC
       if (it != distance.end() && it->second < d) continue;  // stale
       ++unknown;
       if (covered && covered(c)) ++hit;
+      if (predicted_wall && predicted_wall(c)) continue;  // the space behind is another's
     }
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) {
@@ -104,7 +106,8 @@ ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest
     }
     if (options.mode == ExploreMode::kSkipPredicted && request.covered) {
       const auto fraction =
-          CoveredFraction(grid, cluster, options.skip_radius, options.frontier.classes, request.covered);
+          CoveredFraction(grid, cluster, options.skip_radius, options.frontier.classes, request.covered,
+                          request.predicted_wall);
       if (fraction && *fraction >= options.skip_covered_fraction) {
         ++decision.skipped;
         continue;

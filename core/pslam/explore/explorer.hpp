@@ -24,7 +24,8 @@ struct ExploreOptions {
   FrontierOptions frontier;
   PlannerOptions planner;
   // Skip-predicted: a cluster is skipped when at least skip_covered_fraction of the unknown cells
-  // within skip_radius of it (reached through unknown space) are covered.
+  // within skip_radius of it (reached through unknown space, not through predicted walls) are
+  // covered.
   double skip_radius = 2.0;             // m
   double skip_covered_fraction = 0.8;
   // Clusters whose representative cell lies this close to a blacklisted point are ignored.
@@ -42,6 +43,10 @@ using CoveredPredicate = std::function<bool(const Eigen::Vector2i& cell)>;
 struct ExploreRequest {
   Eigen::Vector2d robot_position = Eigen::Vector2d::Zero();
   CoveredPredicate covered;                // used in kSkipPredicted; empty: nothing is covered
+  // Covered cells predicted occupied (kSkipPredicted). The unknown space behind a predicted wall,
+  // such as an obstacle's interior, is not what the frontier would reveal, and nothing predicts
+  // it; it must not count against the frontier. Empty: no walls.
+  CoveredPredicate predicted_wall;
   std::vector<Eigen::Vector2d> blacklist;  // goals the caller gave up on (e.g. blocked on the way)
 };
 
@@ -73,7 +78,9 @@ ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest
 
 // Visible for testing: the fraction of the unknown cells within 'radius' of the cluster, reached
 // from its cells through unknown cells, for which 'covered' holds; nullopt when there are none.
+// Cells for which 'predicted_wall' holds are counted but not passed through.
 std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierCluster& cluster, double radius,
-                                      const CellClassOptions& classes, const CoveredPredicate& covered);
+                                      const CellClassOptions& classes, const CoveredPredicate& covered,
+                                      const CoveredPredicate& predicted_wall = {});
 
 }  // namespace pslam

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <optional>
+#include <utility>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -25,6 +26,46 @@ cv::Mat OccupiedImage(const CellRaster& raster) {
 
 double AngleBetween(double a, double b) { return std::abs(NormalizeAngle(a - b)); }
 
+// The line through 'points' by iteratively reweighted least squares with Huber weights (k = 1.345
+// cells, as cv::fitLine's DIST_HUBER): a point on it and a unit direction. The first weights come
+// from the Hough line (through 'origin' along 'guess'), so that a wall meeting this one at a corner
+// starts down-weighted instead of tilting the first fit; each round is then a weighted principal
+// axis. On walls sampled as RefineSegment samples them it is as accurate as cv::fitLine, whose
+// twenty random restarts took a fifth of a prediction's time.
+std::pair<Eigen::Vector2d, Eigen::Vector2d> HuberLineFit(const std::vector<Eigen::Vector2d>& points,
+                                                         const Eigen::Vector2d& origin, const Eigen::Vector2d& guess) {
+  constexpr double kHuber = 1.345;
+  std::vector<double> weights(points.size());
+  Eigen::Vector2d centre = origin, direction = guess;
+  for (int round = 0; round < 30; ++round) {
+    const Eigen::Vector2d normal(-direction.y(), direction.x());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const double r = std::abs(normal.dot(points[i] - centre));
+      weights[i] = r <= kHuber ? 1.0 : kHuber / r;
+    }
+    double total = 0.0;
+    centre.setZero();
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      centre += weights[i] * points[i];
+      total += weights[i];
+    }
+    centre /= total;
+    double sxx = 0.0, sxy = 0.0, syy = 0.0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const Eigen::Vector2d d = points[i] - centre;
+      sxx += weights[i] * d.x() * d.x();
+      sxy += weights[i] * d.x() * d.y();
+      syy += weights[i] * d.y() * d.y();
+    }
+    const double angle = 0.5 * std::atan2(2.0 * sxy, sxx - syy);  // the principal axis
+    const Eigen::Vector2d next(std::cos(angle), std::sin(angle));
+    const bool converged = std::abs(next.x() * direction.y() - next.y() * direction.x()) < 1e-6;
+    direction = next;
+    if (converged) break;
+  }
+  return {centre, direction};
+}
+
 // Refits the direction of a Hough segment (image coordinates) to the occupied cells within two
 // cells of it and projects its end points onto the fitted line. See features.hpp, step 1.
 LineSegment RefineSegment(const cv::Mat& occupied, const LineSegment& segment) {
@@ -44,16 +85,11 @@ LineSegment RefineSegment(const cv::Mat& occupied, const LineSegment& segment) {
   std::sort(keys.begin(), keys.end());
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   if (keys.size() < 3) return segment;
-  std::vector<cv::Point2f> points;
+  std::vector<Eigen::Vector2d> points;
   points.reserve(keys.size());
-  for (const int key : keys) {
-    points.emplace_back(static_cast<float>(key % occupied.cols), static_cast<float>(key / occupied.cols));
-  }
-  cv::Vec4f fit;
-  cv::fitLine(points, fit, cv::DIST_HUBER, 0, 0.01, 0.01);
-  Eigen::Vector2d v(fit[0], fit[1]);
-  if (v.dot(u) < 0.0) v = -v;
-  const Eigen::Vector2d p0(fit[2], fit[3]);
+  for (const int key : keys) points.emplace_back(key % occupied.cols, key / occupied.cols);
+  const auto [p0, fitted] = HuberLineFit(points, 0.5 * (segment.a + segment.b), u);
+  const Eigen::Vector2d v = fitted.dot(u) < 0.0 ? Eigen::Vector2d(-fitted) : fitted;
   return {p0 + (segment.a - p0).dot(v) * v, p0 + (segment.b - p0).dot(v) * v};
 }
 

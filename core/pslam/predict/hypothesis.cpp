@@ -25,19 +25,23 @@ double ObservedSimilarity(const Hypothesis& hypothesis, const OccupancyGrid& lat
   CellRaster predicted(box.min, box.width(), box.height());
   for (const HypothesisCell& c : hypothesis.cells) {
     if (!observed.Contains(c.cell)) continue;
-    const OccupancyGrid::Cell value = later_map.At(c.cell.x(), c.cell.y());
-    if (value == OccupancyGrid::kUnknown) continue;
+    const CellState state = classify(later_map.At(c.cell.x(), c.cell.y()));
+    if (state != CellState::kOccupied && state != CellState::kFree) continue;  // not decided yet
     const Eigen::Vector2i local = c.cell - box.min;
-    observed.Local(local.x(), local.y()) = classify(value);
+    observed.Local(local.x(), local.y()) = state;
     predicted.Local(local.x(), local.y()) = c.occupied ? CellState::kOccupied : CellState::kFree;
   }
   return Similarity(observed, predicted, tolerance_cells);
 }
 
-std::size_t RemoveExplored(Hypothesis& hypothesis, const OccupancyGrid& map) {
-  const std::size_t before = hypothesis.cells.size();
-  std::erase_if(hypothesis.cells, [&](const HypothesisCell& c) { return map.IsKnown(c.cell.x(), c.cell.y()); });
-  return before - hypothesis.cells.size();
+std::vector<HypothesisCell> TakeExplored(Hypothesis& hypothesis, const OccupancyGrid& map) {
+  auto& cells = hypothesis.cells;
+  const auto seen = std::stable_partition(cells.begin(), cells.end(), [&](const HypothesisCell& c) {
+    return !map.IsKnown(c.cell.x(), c.cell.y());
+  });
+  std::vector<HypothesisCell> taken(seen, cells.end());
+  cells.erase(seen, cells.end());
+  return taken;
 }
 
 }  // namespace pslam

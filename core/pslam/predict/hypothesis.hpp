@@ -32,7 +32,7 @@ struct Hypothesis {
   Eigen::Vector2d target_control_point{0.0, 0.0};     // P1, metres
   Eigen::Vector2d reference_control_point{0.0, 0.0};  // P2, metres
   double psi = 0.0;                    // eq. 5 between S_f and the aligned reference, explored part
-  double area_m2 = 0.0;                // area predicted when generated (RemoveExplored leaves it)
+  double area_m2 = 0.0;                // area predicted when generated (TakeExplored leaves it)
   // Cells that were never observed when the hypothesis was made, each with the state of the
   // aligned reference cell; cells whose reference was unknown or undecided are not predicted.
   std::vector<HypothesisCell> cells;
@@ -45,15 +45,16 @@ struct Hypothesis {
 Pose2D ReferenceToTarget(const Hypothesis& hypothesis);
 
 // Psi (eq. 5, occupied cells only, same tolerance as the search) between the hypothesis and
-// 'later_map' over the hypothesis cells observed since it was made: how right the prediction
-// turned out. NaN when none of its cells has been observed yet; 0 when they have been but neither
-// side has an occupied cell among them. Call it before RemoveExplored, which drops those cells.
+// 'later_map' over the hypothesis cells observed since it was made and decided there (occupied or
+// free; a cell seen once or twice may still be uncertain, which is no evidence either way): how
+// right the prediction turned out. NaN when none of its cells has been observed yet; 0 when they have been but neither
+// side has an occupied cell among them. Call it before TakeExplored, which drops those cells.
 double ObservedSimilarity(const Hypothesis& hypothesis, const OccupancyGrid& later_map,
                           const CellStateThresholds& thresholds = {}, int tolerance_cells = 1);
 
-// The validation model V(.) of eq. 20: removes the cells that 'map' has observed since (any
-// value but OccupancyGrid::kUnknown), so the hypothesis only ever speaks for unexplored space.
-// Returns the number of cells removed.
-std::size_t RemoveExplored(Hypothesis& hypothesis, const OccupancyGrid& map);
+// The validation model V(.) of eq. 20: takes the cells that 'map' has observed since (any value
+// but OccupancyGrid::kUnknown) out of the hypothesis, so that it only ever speaks for unexplored
+// space, and returns them.
+std::vector<HypothesisCell> TakeExplored(Hypothesis& hypothesis, const OccupancyGrid& map);
 
 }  // namespace pslam

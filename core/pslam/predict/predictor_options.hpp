@@ -40,6 +40,11 @@ struct PredictorOptions {
   // lines and the corners are located to about a cell, which at 5 m from P1 is already worth a
   // cell or two of misalignment. The paper names a better alignment as future work (section VI).
   int refined_candidates = 3;  // 0: no refinement
+  // Coarse to fine: every alignment is first scored on a fixed pseudo-random quarter of the
+  // explored cells of S_f (RegionMatcher::CoarsePsi, an estimate of the same ratio), and only the
+  // best coarse_rescored are scored on all of them before the refinement. Scoring hundreds of
+  // alignments was half of a prediction on an Intel-sized map. 0: score every alignment exactly.
+  int coarse_rescored = 16;
   CellStateThresholds states;
   FeatureOptions features;
 };

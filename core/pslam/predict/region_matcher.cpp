@@ -1,8 +1,18 @@
 #include "pslam/predict/region_matcher.hpp"
 
 #include <cmath>
+#include <cstdint>
 
 namespace pslam {
+namespace {
+
+// One cell in four, by a hash of its position: fixed, so that a prediction is reproducible.
+bool InSample(int x, int y) {
+  const auto h = static_cast<std::uint32_t>(x) * 73856093u ^ static_cast<std::uint32_t>(y) * 19349663u;
+  return ((h ^ (h >> 13)) & 3u) == 0;
+}
+
+}  // namespace
 
 RegionMatcher::RegionMatcher(const CellRaster& window, const CellRaster& target, int tolerance_cells)
     : window_origin_(window.origin),
@@ -26,11 +36,22 @@ RegionMatcher::RegionMatcher(const CellRaster& window, const CellRaster& target,
       // Coordinates relative to the target origin stay small, so float keeps sub-cell precision.
       explored_.push_back({static_cast<float>(x), static_cast<float>(y), flags});
       target_occupied_ += s == CellState::kOccupied;
+      if (InSample(x, y)) {
+        sampled_.push_back(explored_.back());
+        sampled_occupied_ += s == CellState::kOccupied;
+      }
     }
   }
 }
 
-double RegionMatcher::Psi(const Alignment& alignment) const {
+double RegionMatcher::Psi(const Alignment& alignment) const { return PsiOver(explored_, target_occupied_, alignment); }
+
+double RegionMatcher::CoarsePsi(const Alignment& alignment) const {
+  return PsiOver(sampled_, sampled_occupied_, alignment);
+}
+
+double RegionMatcher::PsiOver(const std::vector<TargetCell>& cells, std::int64_t target_occupied,
+                              const Alignment& alignment) const {
   // Window-local reference position of a target-local cell c: A c + b, with A = R(-theta) and b
   // folding in both origins (see Alignment::ToReference). The + 0.5 makes truncation round to
   // the nearest cell for the non-negative coordinates that can hit the window.
@@ -42,7 +63,7 @@ double RegionMatcher::Psi(const Alignment& alignment) const {
   const auto bx = static_cast<float>(b.x()), by = static_cast<float>(b.y());
   const auto w = static_cast<float>(window_width_), h = static_cast<float>(window_height_);
   std::int64_t aligned_occupied = 0, target_matched = 0, aligned_matched = 0;
-  for (const TargetCell& t : explored_) {
+  for (const TargetCell& t : cells) {
     const float rx = a00 * t.x + a01 * t.y + bx;
     const float ry = a10 * t.x + a11 * t.y + by;
     std::uint8_t ref = 0;
@@ -54,7 +75,7 @@ double RegionMatcher::Psi(const Alignment& alignment) const {
     target_matched += (t.flags & kOccupied) && (ref & kNearOccupied);
     aligned_matched += (ref & kOccupied) && (t.flags & kNearOccupied);
   }
-  const std::int64_t total = target_occupied_ + aligned_occupied;
+  const std::int64_t total = target_occupied + aligned_occupied;
   return total == 0 ? 0.0 : static_cast<double>(target_matched + aligned_matched) / static_cast<double>(total);
 }
 

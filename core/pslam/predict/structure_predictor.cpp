@@ -203,12 +203,20 @@ std::optional<Hypothesis> StructurePredictor::Run(const OccupancyGrid& map, cons
     }
     for (const double theta : CandidateAngles(*control, *reference)) {
       const Alignment alignment{control->position, reference->position, theta};
-      candidates.push_back({alignment, matcher.Psi(alignment)});
+      const bool coarse = options_.coarse_rescored > 0;
+      candidates.push_back({alignment, coarse ? matcher.CoarsePsi(alignment) : matcher.Psi(alignment)});
     }
   }
   report_.alignments = static_cast<int>(candidates.size());
-  std::stable_sort(candidates.begin(), candidates.end(),
-                   [](const Candidate& a, const Candidate& b) { return a.psi > b.psi; });
+  const auto better = [](const Candidate& a, const Candidate& b) { return a.psi > b.psi; };
+  std::stable_sort(candidates.begin(), candidates.end(), better);
+  if (options_.coarse_rescored > 0) {
+    // Coarse to fine (predictor_options.hpp): the best coarse scores, scored on every cell.
+    candidates.resize(std::min(candidates.size(), static_cast<std::size_t>(options_.coarse_rescored)));
+    for (Candidate& c : candidates) c.psi = matcher.Psi(c.alignment);
+    report_.alignments += static_cast<int>(candidates.size());
+    std::stable_sort(candidates.begin(), candidates.end(), better);
+  }
 
   // Refine the best few, then score them exactly (similarity.hpp) and keep the best.
   const std::size_t kept =

@@ -5,6 +5,7 @@
 #include <thread>
 
 #include "pslam/slam/heading_target.hpp"
+#include "pslam/slam/hypothesis_judge.hpp"
 
 namespace pslam {
 namespace {
@@ -19,7 +20,10 @@ std::vector<PredictedCell> ToPredictedCells(const Hypothesis& h) {
   return cells;
 }
 
-bool Active(Hypothesis::Status s) { return s == Hypothesis::Status::kPending || s == Hypothesis::Status::kConfirmed; }
+// Hypotheses that weigh the particles (S2 of eq. 22).
+bool Weighing(Hypothesis::Status s) { return s == Hypothesis::Status::kPending || s == Hypothesis::Status::kConfirmed; }
+// Hypotheses that stand for unexplored space: all but the refuted.
+bool Covering(Hypothesis::Status s) { return s != Hypothesis::Status::kRefuted; }
 
 }  // namespace
 
@@ -57,8 +61,18 @@ void PSlam::SetTarget(const Eigen::Vector2i& cell, double time) {
   target_ = cell;
   target_set_at_ = filter_.particles().empty() ? Eigen::Vector2d::Zero() : filter_.best().pose.translation();
   ++stats_.targets;
-  // H of eq. 20 works on the best particle's map (copying it copies tile pointers only).
-  if (predictor_ && !filter_.particles().empty()) predictor_->Request(filter_.best().map, cell, time);
+  const double resolution = options_.filter.resolution;
+  if (predicted_target_ &&
+      (*predicted_target_ - cell).cast<double>().norm() * resolution < options_.new_target_distance_m) {
+    return;  // the same exploration goal, replanned
+  }
+  if (!predictor_ || filter_.particles().empty()) return;
+  // H of eq. 20 works on the best particle's map (copying it copies tile pointers only). A request
+  // the busy predictor drops leaves predicted_target_ alone, so the next target asks again.
+  if (predictor_->Request(filter_.best().map, cell, time)) {
+    predicted_target_ = cell;
+    ++stats_.new_targets;
+  }
 }
 
 PSlamStep PSlam::AddScan(const LaserScan& scan) {
@@ -87,10 +101,10 @@ void PSlam::MaybeRetargetFromHeading(double time) {
 void PSlam::TakePrediction(double time) {
   std::optional<Hypothesis> h = predictor_->TakeResult();
   if (!h || h->cells.empty()) return;
-  RemoveExplored(*h, filter_.best().map);  // the map moved on while the predictor worked
+  TakeExplored(*h, filter_.best().map);  // the map moved on while the predictor worked
   if (h->cells.empty()) return;
   filter_.AddHypothesis(ToPredictedCells(*h));
-  for (const HypothesisCell& c : h->cells) coverage_.MutableAt(c.cell.x(), c.cell.y()) = c.occupied ? kPredictedOccupied : kPredictedFree;
+  coverage_.Add(h->cells);
   ++stats_.hypotheses;
   originals_.push_back(*h);
   hypotheses_.push_back(std::move(*h));
@@ -101,26 +115,29 @@ void PSlam::TakePrediction(double time) {
 void PSlam::SetStatus(std::size_t i, Hypothesis::Status status, double time) {
   Hypothesis& h = hypotheses_[i];
   if (h.status == status) return;
+  const Hypothesis::Status before = h.status;
   h.status = status;
   history_.push_back({h.id, time, status});
   if (status == Hypothesis::Status::kConfirmed) ++stats_.confirmed;
   if (status == Hypothesis::Status::kRefuted) ++stats_.refuted;
   if (status == Hypothesis::Status::kExpired) ++stats_.expired;
-  if (!Active(status)) {
-    // A refuted or expired prediction must not weigh the particles any more.
-    filter_.RemoveHypothesis(ToPredictedCells(h));
-    for (const HypothesisCell& c : h.cells) coverage_.Forget(c.cell.x(), c.cell.y());
-  }
+  // A refuted or expired prediction must not weigh the particles any more.
+  if (Weighing(before) && !Weighing(status)) filter_.RemoveHypothesis(ToPredictedCells(h));
+  if (Covering(before) && !Covering(status)) coverage_.Remove(h.cells);
 }
 
 void PSlam::JudgeHypotheses(const RbpfStep& step, double time, std::vector<int>& changed) {
   const OccupancyGrid& map = filter_.best().map;
   for (std::size_t i = 0; i < hypotheses_.size(); ++i) {
     Hypothesis& h = hypotheses_[i];
-    if (h.status != Hypothesis::Status::kPending) continue;
-    const std::size_t removed = RemoveExplored(h, map);
-    if (removed == 0) {
-      if (time - last_observed_[i] > options_.judge.expiry_s) {
+    if (!Covering(h.status)) continue;
+    const std::vector<HypothesisCell> seen = TakeExplored(h, map);
+    coverage_.Remove(seen);
+    // Confirmed hypotheses are settled; expired ones are judged again if the robot comes back,
+    // so that only an observation that contradicts them withdraws their coverage.
+    if (h.status == Hypothesis::Status::kConfirmed) continue;
+    if (seen.empty()) {
+      if (h.status == Hypothesis::Status::kPending && time - last_observed_[i] > options_.judge.expiry_s) {
         SetStatus(i, Hypothesis::Status::kExpired, time);
         changed.push_back(h.id);
       }
@@ -132,24 +149,27 @@ void PSlam::JudgeHypotheses(const RbpfStep& step, double time, std::vector<int>&
       h.hit_ratio = std::isnan(h.hit_ratio) ? step.prediction.best_hit_ratio
                                             : 0.7 * h.hit_ratio + 0.3 * step.prediction.best_hit_ratio;
     }
-    for (const HypothesisCell& c : originals_[i].cells) {
-      if (map.IsKnown(c.cell.x(), c.cell.y())) coverage_.Forget(c.cell.x(), c.cell.y());
-    }
-    const double observed = 1.0 - static_cast<double>(h.cells.size()) / static_cast<double>(originals_[i].cells.size());
-    if (observed >= options_.judge.judge_observed_fraction) {
-      h.psi_observed = ObservedSimilarity(originals_[i], map, options_.predictor.states, options_.predictor.tolerance_cells);
-      SetStatus(i, h.psi_observed >= options_.judge.confirm_psi ? Hypothesis::Status::kConfirmed : Hypothesis::Status::kRefuted, time);
+    const ObservedEvidence evidence =
+        GatherEvidence(originals_[i], map, options_.predictor.states, options_.predictor.tolerance_cells);
+    h.psi_observed = evidence.psi;
+    const Verdict verdict = Judge(evidence, options_.judge);
+    if (verdict == Verdict::kRefuted) SetStatus(i, Hypothesis::Status::kRefuted, time);
+    // An expired hypothesis that turns out right stays out of the weights: it is settled.
+    if (verdict == Verdict::kConfirmed && h.status == Hypothesis::Status::kPending) {
+      SetStatus(i, Hypothesis::Status::kConfirmed, time);
     }
     changed.push_back(h.id);
   }
 }
 
-bool PSlam::IsCovered(const Eigen::Vector2i& cell) const { return coverage_.IsKnown(cell.x(), cell.y()); }
+bool PSlam::IsCovered(const Eigen::Vector2i& cell) const { return coverage_.Covered(cell); }
+
+bool PSlam::IsPredictedWall(const Eigen::Vector2i& cell) const { return coverage_.PredictedWall(cell); }
 
 OccupancyGrid PSlam::MergedMap() const {
   OccupancyGrid merged = filter_.best().map;
   for (const Hypothesis& h : hypotheses_) {
-    if (!Active(h.status)) continue;
+    if (!Covering(h.status)) continue;
     for (const HypothesisCell& c : h.cells) {
       if (!merged.IsKnown(c.cell.x(), c.cell.y())) {
         merged.MutableAt(c.cell.x(), c.cell.y()) = c.occupied ? kPredictedOccupied : kPredictedFree;

@@ -1,11 +1,13 @@
 #pragma once
 // P-SLAM (Chang et al., IEEE T-RO 2007): the particle filter plus the look-ahead mapping of
-// Fig. 6. For every new exploration target T_k the structure predictor runs on its own thread
-// over a snapshot of the best map; an accepted hypothesis h_k goes into every particle's
+// Fig. 6. For every new exploration target T_k (not every replanning toward the same frontier, see
+// PSlamOptions::new_target_distance_m) the structure predictor runs on its own thread over a
+// snapshot of the best map; an accepted hypothesis h_k goes into every particle's
 // hypothesis map (H of eq. 20), weighs the particles through S2 (eq. 21-22, with the hit-ratio
 // recovery of eq. 23), and gives way cell by cell to what the robot observes (V of eq. 20). Each
-// hypothesis is judged once enough of it has been seen: confirmed or refuted by Psi against the
-// observation, or expired if the robot never goes there.
+// hypothesis is judged once enough of it, with enough structure, has been seen: confirmed or
+// refuted by Psi against the observation (hypothesis_judge.hpp), or expired if the robot never
+// goes there. Only a refutation withdraws a hypothesis's coverage of unexplored space.
 #include <Eigen/Core>
 #include <memory>
 #include <optional>
@@ -14,6 +16,7 @@
 #include "pslam/filter/rbpf.hpp"
 #include "pslam/predict/async_predictor.hpp"
 #include "pslam/predict/hypothesis.hpp"
+#include "pslam/slam/prediction_coverage.hpp"
 #include "pslam/slam/pslam_options.hpp"
 
 namespace pslam {
@@ -25,7 +28,8 @@ struct HypothesisEvent {
 };
 
 struct PSlamStats {
-  int targets = 0;                 // exploration targets set (each asks for a prediction)
+  int targets = 0;                 // exploration targets set
+  int new_targets = 0;             // of which far enough from the last to ask for a prediction
   int predictions_requested = 0;   // accepted by the predictor (it was not busy)
   int predictions_made = 0;        // finished, with or without a hypothesis
   int hypotheses = 0;              // accepted hypotheses
@@ -54,12 +58,15 @@ class PSlam {
   const std::vector<Hypothesis>& hypotheses() const { return hypotheses_; }
   const std::vector<HypothesisEvent>& history() const { return history_; }
   PSlamStats stats() const;
-  // Whether an unknown cell of the best map is covered by a pending or confirmed hypothesis: what
-  // skip-predicted exploration asks.
+  // Whether an unknown cell of the best map is covered by a hypothesis that was not refuted
+  // (pending, confirmed or expired): what skip-predicted exploration asks.
   bool IsCovered(const Eigen::Vector2i& cell) const;
-  // The covered cells as a grid (known = covered), for planning on a snapshot off this thread.
-  const OccupancyGrid& coverage() const { return coverage_; }
-  // The best map with the cells of pending and confirmed hypotheses written into unknown cells.
+  // Whether such a hypothesis predicts a wall there: the space behind it is not the frontier's.
+  bool IsPredictedWall(const Eigen::Vector2i& cell) const;
+  // The covered cells and predicted walls, for planning on a snapshot off this thread (copying
+  // shares the tiles).
+  const PredictionCoverage& coverage() const { return coverage_; }
+  // The best map with the cells of the hypotheses that were not refuted written into unknown cells.
   OccupancyGrid MergedMap() const;
   // Psi of every hypothesis against the current best map, over all of its original cells observed
   // so far (psi_observed), for reports at the end of a run.
@@ -80,8 +87,9 @@ class PSlam {
   std::vector<Hypothesis> originals_;    // as generated, for Psi against the observation
   std::vector<double> last_observed_;    // time a cell of each hypothesis was last observed
   std::vector<HypothesisEvent> history_;
-  OccupancyGrid coverage_;               // cells of pending/confirmed hypotheses, best frame
+  PredictionCoverage coverage_;          // unobserved cells of hypotheses not refuted, best frame
   std::optional<Eigen::Vector2i> target_;
+  std::optional<Eigen::Vector2i> predicted_target_;  // target of the last prediction requested
   Eigen::Vector2d target_set_at_ = Eigen::Vector2d::Zero();
   PSlamStats stats_;
   double last_time_ = 0.0;

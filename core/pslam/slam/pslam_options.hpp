@@ -6,13 +6,18 @@
 namespace pslam {
 
 struct HypothesisJudgeOptions {
-  // Once this share of a hypothesis's cells has been observed, it is judged: confirmed when Psi
-  // against what was observed (eq. 5) reaches confirm_psi, refuted otherwise. The paper counts
-  // Psi >= 0.4 as "a reasonable-quality similar structure" (section III-C).
+  // Once this share of a hypothesis's cells has been observed, and that part holds at least
+  // min_structure_m of wall on the predicted or the observed side (hypothesis_judge.hpp), it is
+  // judged: confirmed when Psi against what was observed (eq. 5) reaches confirm_psi, refuted
+  // otherwise. The paper counts Psi >= 0.4 as "a reasonable-quality similar structure" (section
+  // III-C); min_structure_m is the predictor's bar for S_f (PredictorOptions::min_structure_m).
   double judge_observed_fraction = 0.5;
+  double min_structure_m = 4.0;
   double confirm_psi = 0.4;
-  // A hypothesis none of whose cells has been observed for this long (log or simulated time)
-  // expires: the robot went elsewhere, and the prediction no longer steers anything.
+  // A pending hypothesis none of whose cells has been observed for this long (log or simulated
+  // time) expires: the robot went elsewhere, so it leaves the particle weights (nothing checks it
+  // any more). It still covers its cells for exploration: nothing contradicted it, and skipping
+  // such regions is the point of predicting them. Observed later and refuted, it uncovers them.
   double expiry_s = 300.0;
 };
 
@@ -29,6 +34,11 @@ struct PSlamOptions {
   PredictorOptions predictor;
   bool predict = true;              // false: the plain RBPF, for comparison
   bool heading_targets = false;     // choose targets from the heading (logs); else SetTarget()
+  // The paper predicts "only when a new target is selected" (section IV-B). A planner replanning
+  // toward the same frontier moves its target cell as the frontier recedes; a target this close
+  // to the one last predicted for is the same exploration goal and starts no new prediction.
+  // A quarter of the region size d: the new S_f would overlap the last one by over half.
+  double new_target_distance_m = 2.5;
   HypothesisJudgeOptions judge;
   HeadingTargetOptions heading;
 };

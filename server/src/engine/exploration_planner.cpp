@@ -11,7 +11,10 @@ PlanResult Plan(const PlanRequest& request) {
   options.mode = request.skip_predicted ? ExploreMode::kSkipPredicted : ExploreMode::kFullCoverage;
   ExploreRequest explore;
   explore.robot_position = request.pose.translation();
-  explore.covered = [&coverage = request.coverage](const Eigen::Vector2i& cell) { return coverage.IsKnown(cell.x(), cell.y()); };
+  explore.covered = [&coverage = request.coverage](const Eigen::Vector2i& cell) { return coverage.Covered(cell); };
+  explore.predicted_wall = [&coverage = request.coverage](const Eigen::Vector2i& cell) {
+    return coverage.PredictedWall(cell);
+  };
   PlanResult result;
   result.pose = request.pose;
   result.time = request.time;

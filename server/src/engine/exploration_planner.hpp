@@ -17,15 +17,16 @@
 #include "pslam/common/pose2d.hpp"
 #include "pslam/explore/explorer.hpp"
 #include "pslam/grid/occupancy_grid.hpp"
+#include "pslam/slam/prediction_coverage.hpp"
 
 namespace pslam::server {
 
 struct PlanRequest {
-  OccupancyGrid map;       // the best particle's map
-  OccupancyGrid coverage;  // cells covered by active hypotheses (skip-predicted mode)
-  Pose2D pose;             // the robot's pose on that map
+  OccupancyGrid map;            // the best particle's map
+  PredictionCoverage coverage;  // cells covered by active hypotheses (skip-predicted mode)
+  Pose2D pose;                  // the robot's pose on that map
   bool skip_predicted = false;
-  double time = 0.0;       // input time of the request
+  double time = 0.0;            // input time of the request
 };
 
 struct PlanResult {

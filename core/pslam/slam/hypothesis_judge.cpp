@@ -1,0 +1,38 @@
+#include "pslam/slam/hypothesis_judge.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pslam {
+
+ObservedEvidence GatherEvidence(const Hypothesis& original, const OccupancyGrid& map,
+                                const CellStateThresholds& thresholds, int tolerance_cells) {
+  ObservedEvidence e;
+  if (original.cells.empty()) return e;
+  const CellClassifier classify(thresholds);
+  int observed = 0, predicted_walls = 0, observed_walls = 0;
+  for (const HypothesisCell& c : original.cells) {
+    const OccupancyGrid::Cell value = map.At(c.cell.x(), c.cell.y());
+    if (value == OccupancyGrid::kUnknown) continue;
+    ++observed;
+    predicted_walls += c.occupied;
+    observed_walls += classify(value) == CellState::kOccupied;
+  }
+  e.observed_fraction = static_cast<double>(observed) / static_cast<double>(original.cells.size());
+  e.predicted_walls_m = predicted_walls * map.resolution();
+  e.observed_walls_m = observed_walls * map.resolution();
+  e.psi = ObservedSimilarity(original, map, thresholds, tolerance_cells);
+  return e;
+}
+
+Verdict Judge(const ObservedEvidence& e, const HypothesisJudgeOptions& options) {
+  if (!std::isfinite(e.psi) || e.observed_fraction < options.judge_observed_fraction) return Verdict::kUndecided;
+  // Once all of it is seen nothing more will come: judge on what there is.
+  const bool complete = e.observed_fraction >= 1.0;
+  if (!complete && std::max(e.predicted_walls_m, e.observed_walls_m) < options.min_structure_m) {
+    return Verdict::kUndecided;
+  }
+  return e.psi >= options.confirm_psi ? Verdict::kConfirmed : Verdict::kRefuted;
+}
+
+}  // namespace pslam
