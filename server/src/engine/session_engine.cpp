@@ -198,9 +198,12 @@ void SessionEngine::Process(const InputRecord& input, std::optional<SteadyTime> 
 }
 
 void SessionEngine::TakePlan() {
-  live_dirty_ = true;  // frontiers at least
+  const auto frontiers_before = pipeline_->frontiers();
   const std::optional<ExplorationTarget> target = pipeline_->TakePlan();
+  // A plan that changes nothing the viewers see is no reason for a live tick.
+  if (pipeline_->frontiers() != frontiers_before) live_dirty_ = true;
   if (!target) return;
+  live_dirty_ = true;
   live_target_ = target;
   if (sinks_.target && !rebuilding_) sinks_.target(*target);
 }
