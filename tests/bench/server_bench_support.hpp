@@ -22,7 +22,7 @@
 #include <thread>
 #include <vector>
 
-#include "testing/listening_port.hpp"
+#include "testing/server_launch.hpp"
 
 #include <boost/asio.hpp>
 #include <boost/beast/core.hpp>
@@ -53,26 +53,10 @@ class ServerProcess {
   // 'log_path'. Throws if the server does not print its port within 30 s.
   ServerProcess(const std::string& binary, const std::filesystem::path& data_dir, const std::vector<std::string>& extra_args,
                 const std::filesystem::path& log_path) {
-    int out[2];
-    if (pipe(out) != 0) throw std::runtime_error("pipe failed");
-    std::vector<std::string> args = {binary, "--listen", "127.0.0.1:0", "--data", data_dir.string()};
-    args.insert(args.end(), extra_args.begin(), extra_args.end());
-    pid_ = fork();
-    if (pid_ < 0) throw std::runtime_error("fork failed");
-    if (pid_ == 0) {
-      dup2(out[1], STDOUT_FILENO);
-      const int err = open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-      if (err >= 0) dup2(err, STDERR_FILENO);
-      close(out[0]);
-      std::vector<char*> argv;
-      for (auto& a : args) argv.push_back(a.data());
-      argv.push_back(nullptr);
-      execv(argv[0], argv.data());
-      _exit(127);
-    }
-    close(out[1]);
-    stdout_ = out[0];
-    port_ = ReadPort();
+    const auto server = ::pslam::testing::LaunchServer(binary, data_dir, extra_args, log_path, 30s);
+    pid_ = server.pid;
+    stdout_ = server.stdout_fd;
+    port_ = server.port;
   }
   ~ServerProcess() {
     Stop();
@@ -141,10 +125,6 @@ class ServerProcess {
   }
 
  private:
-  unsigned short ReadPort() {
-    return ::pslam::testing::ReadListeningPort(stdout_, std::chrono::seconds(30), "see its log");
-  }
-
   pid_t pid_ = -1;
   int stdout_ = -1;
   unsigned short port_ = 0;

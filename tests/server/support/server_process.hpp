@@ -1,8 +1,6 @@
 #pragma once
-// The real pslam-server binary, started with fork/exec on 127.0.0.1 with a random port, for tests
-// that need a server they can kill -9. The port is read from the server's "listening on" line.
-#include <fcntl.h>
-#include <poll.h>
+// The real pslam-server binary on 127.0.0.1 with a random port (testing/server_launch.hpp), for
+// tests that need a server they can kill -9.
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -13,34 +11,20 @@
 #include <string>
 #include <vector>
 
-#include "testing/listening_port.hpp"
+#include "testing/server_launch.hpp"
 
 namespace pslam::server::testing {
 
 class ServerProcess {
  public:
   ServerProcess(const std::filesystem::path& data_dir, const std::vector<std::string>& extra_args = {}) {
-    int out[2];
-    if (pipe(out) != 0) throw std::runtime_error("pipe failed");
-    std::vector<std::string> args = {PSLAM_SERVER_BINARY, "--listen", "127.0.0.1:0", "--data", data_dir.string(),
-                                     "--checkpoint-seconds", "1"};
+    std::vector<std::string> args = {"--checkpoint-seconds", "1"};
     args.insert(args.end(), extra_args.begin(), extra_args.end());
-    const std::string log = (data_dir.parent_path() / (data_dir.filename().string() + ".log")).string();
-    pid_ = fork();
-    if (pid_ == 0) {
-      dup2(out[1], STDOUT_FILENO);
-      const int err = open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-      if (err >= 0) dup2(err, STDERR_FILENO);
-      close(out[0]);
-      std::vector<char*> argv;
-      for (auto& a : args) argv.push_back(a.data());
-      argv.push_back(nullptr);
-      execv(argv[0], argv.data());
-      _exit(127);
-    }
-    close(out[1]);
-    stdout_ = out[0];
-    port_ = ReadPort();
+    const auto log = data_dir.parent_path() / (data_dir.filename().string() + ".log");
+    const auto server = ::pslam::testing::LaunchServer(PSLAM_SERVER_BINARY, data_dir, args, log, std::chrono::seconds(20));
+    pid_ = server.pid;
+    stdout_ = server.stdout_fd;
+    port_ = server.port;
   }
   ~ServerProcess() {
     if (pid_ > 0) {
@@ -67,10 +51,6 @@ class ServerProcess {
     waitpid(pid_, &status, 0);
     pid_ = -1;
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  }
-
-  unsigned short ReadPort() {
-    return ::pslam::testing::ReadListeningPort(stdout_, std::chrono::seconds(20), "see the .log next to the data dir");
   }
 
   pid_t pid_ = -1;
