@@ -55,7 +55,8 @@ TEST(IngestTest, AcknowledgedInputsAreInTheDatabase) {
   EXPECT_EQ(lease->repository().LastInputSeq(id), seq);
   EXPECT_EQ(lease->repository().LoadInputs(id, 0, 1000).size(), static_cast<std::size_t>(seq));
   EXPECT_EQ(lease->repository().CountScans(id), 30);
-  EXPECT_TRUE(agent.skipped.empty()) << agent.skipped.front().dump();
+  // Exploration targets may arrive between the acks; anything else (an error) is a failure.
+  for (const auto& m : agent.skipped) EXPECT_EQ(m.value("type", ""), "target") << m.dump();
 }
 
 TEST(IngestTest, ResentInputsAreIgnoredButAcknowledgedAgain) {
