@@ -54,6 +54,30 @@ TEST_F(ScanMatcherTest, LikelihoodPrefersTheTruePose) {
   EXPECT_LE(at_truth.unexplored_points, 3);
 }
 
+// In a corridor whose ends are out of the laser's reach, the scan says nothing along it. The
+// degeneracy guard keeps the guess there (odometry holds it) and still corrects across.
+TEST(ScanMatcherDegeneracyTest, ACorridorWithoutEndsKeepsTheGuessAlongItAndCorrectsAcross) {
+  const std::vector<testing::Segment> corridor{{{-40, -1.1}, {40, -1.1}}, {{-40, 1.1}, {40, 1.1}}};
+  OccupancyGrid grid(0.05);
+  const ScanInserter inserter;
+  for (double x = -3; x <= 3; x += 1.0) {
+    const Pose2D p(x, 0, 0);
+    inserter.Insert(ToScanPoints(testing::RenderScan(p, corridor, p, 8.0), {}), p, grid);
+  }
+  const Pose2D truth(0.3, 0.2, 0.0);
+  const ScanPoints points = ToScanPoints(testing::RenderScan(truth, corridor, truth, 8.0), {});
+  const Pose2D start(0.45, 0.1, 0.03);  // 15 cm behind along the corridor, 10 cm off across it
+  ScanMatchOptions options{.coarsest_level = 2};
+  options.degenerate_ratio = 0.15;
+  const ScanMatchResult result = MatchScan(grid, points.hits, start, options);
+  ASSERT_TRUE(result.converged);
+  EXPECT_NEAR(result.pose.y, truth.y, 0.02);
+  EXPECT_NEAR(result.pose.theta, truth.theta, 0.01);
+  EXPECT_NEAR(result.pose.x, start.x, 0.01) << "slid along the corridor on nothing";
+  const Eigen::Matrix2d translation = result.hessian.topLeftCorner<2, 2>();
+  EXPECT_LT(translation(0, 0), 0.15 * translation(1, 1)) << "the corridor should be degenerate along x";
+}
+
 // A beam cannot end inside a wall it had to cross first: with the free-space check an endpoint at
 // the back of a thick wall scores worse than one on its face; without it both score as hits.
 TEST(ScanLikelihoodTest, FreeSpaceCheckRejectsEndpointsBehindAWall) {

@@ -65,6 +65,8 @@ const std::map<std::string, Setter>& Setters() {
       {"tracking_match.min_score", Nested(&RbpfOptions::tracking_match, &ScanMatchOptions::min_score)},
       {"tracking_match.max_correction_translation", Nested(&RbpfOptions::tracking_match, &ScanMatchOptions::max_correction_translation)},
       {"tracking_match.max_correction_rotation", Nested(&RbpfOptions::tracking_match, &ScanMatchOptions::max_correction_rotation)},
+      {"tracking_match.degenerate_ratio", Nested(&RbpfOptions::tracking_match, &ScanMatchOptions::degenerate_ratio)},
+      {"particle_match.degenerate_ratio", Nested(&RbpfOptions::particle_match, &ScanMatchOptions::degenerate_ratio)},
       {"particle_match.max_correction_translation", Nested(&RbpfOptions::particle_match, &ScanMatchOptions::max_correction_translation)},
       {"particle_match.max_correction_rotation", Nested(&RbpfOptions::particle_match, &ScanMatchOptions::max_correction_rotation)},
       {"particle_match.coarsest_level", Nested(&RbpfOptions::particle_match, &ScanMatchOptions::coarsest_level)},

@@ -1,6 +1,7 @@
 #include "pslam/matching/scan_matcher.hpp"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
@@ -43,6 +44,17 @@ Pose2D ApplyStep(const Pose2D& pose, const Eigen::Vector3d& delta, const ScanMat
           pose.theta + std::clamp(delta.z(), -o.max_rotation_step, o.max_rotation_step)};
 }
 
+// Solution remapping: drops the part of the translation step along a direction the scan barely
+// constrains (see ScanMatchOptions::degenerate_ratio).
+void RemoveDegenerateTranslation(const Eigen::Matrix3d& H, double ratio, Eigen::Vector3d& delta) {
+  if (ratio <= 0.0) return;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(H.topLeftCorner<2, 2>());
+  const Eigen::Vector2d values = eigen.eigenvalues();  // ascending
+  if (values(0) >= ratio * values(1)) return;
+  const Eigen::Vector2d weak = eigen.eigenvectors().col(0);
+  delta.head<2>() -= weak * weak.dot(delta.head<2>());
+}
+
 // Levenberg-Marquardt on one level: a step is kept only if it lowers the cost, otherwise the
 // damping grows. Bilinear occupancy is not smooth, and plain Gauss-Newton overshoots on it.
 void RefineOnLevel(const OccupancyField& field, const std::vector<Eigen::Vector2f>& points, Pose2D& pose,
@@ -53,8 +65,9 @@ void RefineOnLevel(const OccupancyField& field, const std::vector<Eigen::Vector2
     if (lin.H.diagonal().minCoeff() <= 1e-9) break;  // no structure in view along some axis
     Eigen::Matrix3d A = lin.H;
     A.diagonal() *= 1.0 + lambda;
-    const Eigen::Vector3d delta = A.ldlt().solve(lin.g);
+    Eigen::Vector3d delta = A.ldlt().solve(lin.g);
     if (!delta.allFinite()) break;
+    RemoveDegenerateTranslation(lin.H, o.degenerate_ratio, delta);
     const Pose2D candidate = ApplyStep(pose, delta, o);
     Linearization next = Linearize(field, points, candidate, true);
     if (next.cost < lin.cost) {

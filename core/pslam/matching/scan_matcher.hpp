@@ -16,6 +16,12 @@ struct ScanMatchOptions {
   double max_translation_step = 0.1; // metres per iteration, a guard against wild steps
   double max_rotation_step = 0.1;    // radians per iteration
   double damping = 1e-3;             // Levenberg term relative to the Hessian's diagonal
+  // Degeneracy (Zhang, Kaess and Singh, ICRA 2016): where the scan constrains one horizontal
+  // direction far less than the other (a corridor seen without its ends), the cost is flat along
+  // it and the solver slides on noise. Steps along a translation direction whose eigenvalue of
+  // J^T J is below this share of the other one are dropped, so that odometry holds that direction.
+  // 0: off.
+  double degenerate_ratio = 0.0;
   double min_score = 0.15;           // below this mean evidence the match is not trusted
   // A match that moves the pose further than this from the initial guess has most likely locked
   // onto the wrong structure (a parallel wall, the next door): it is not trusted either.
