@@ -61,6 +61,7 @@ std::string RowJson(const ExploreRow& row) {
                      {"no_control_point", JsonNumber(static_cast<double>(s.slam.outcomes.no_control_point))},
                      {"too_little_structure", JsonNumber(static_cast<double>(s.slam.outcomes.too_little_structure))},
                      {"below_threshold", JsonNumber(static_cast<double>(s.slam.outcomes.below_threshold))},
+                     {"ambiguous", JsonNumber(static_cast<double>(s.slam.outcomes.ambiguous))},
                      {"judged", JsonNumber(row.judged)},
                      {"judged_as_truth", JsonNumber(row.judged_as_truth)},
                      {"mean_position_error_m", JsonNumber(s.mean_position_error_m)},

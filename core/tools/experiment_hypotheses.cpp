@@ -117,8 +117,11 @@ int RunHypothesesExperiment(CliArgs& cli) {
     std::printf("exploration              %.1f s simulated, %.1f m, %s, %zu collisions, mean position error %.3f m\n",
                 summary.time_s, summary.distance_m, ExplorationStateName(summary.state), summary.collisions,
                 summary.mean_position_error_m);
-    std::printf("hypotheses               %d accepted (%d confirmed, %d refuted, %d expired, rest pending)\n",
-                summary.hypotheses, summary.slam.confirmed, summary.slam.refuted, summary.slam.expired);
+    std::printf("hypotheses               %d accepted (%d confirmed, %d refuted, %d expired, rest pending) "
+                "of %d predictions; %llu below the threshold, %llu ambiguous\n",
+                summary.hypotheses, summary.slam.confirmed, summary.slam.refuted, summary.slam.expired,
+                summary.slam.predictions_made, static_cast<unsigned long long>(summary.slam.outcomes.below_threshold),
+                static_cast<unsigned long long>(summary.slam.outcomes.ambiguous));
     std::printf("predicted / covered area %.1f m^2 / %.1f m^2 = %.1f %%  (paper: 605.76 / ~2000 m^2 = 30 %%); "
                 "summed over hypotheses %.1f m^2\n",
                 predicted_area, covered_area, 100.0 * fraction, summed_area);
@@ -157,6 +160,8 @@ int RunHypothesesExperiment(CliArgs& cli) {
                                 {"confirmed", JsonNumber(summary.slam.confirmed)},
                                 {"refuted", JsonNumber(summary.slam.refuted)},
                                 {"expired", JsonNumber(summary.slam.expired)},
+                                {"predictions", JsonNumber(summary.slam.predictions_made)},
+                                {"ambiguous", JsonNumber(static_cast<double>(summary.slam.outcomes.ambiguous))},
                                 {"predicted_area_m2", JsonNumber(predicted_area)},
                                 {"summed_hypothesis_area_m2", JsonNumber(summed_area)},
                                 {"covered_area_m2", JsonNumber(covered_area)},

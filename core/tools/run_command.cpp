@@ -163,11 +163,12 @@ int RunRunCommand(const std::vector<std::string>& args) {
                   p.outcomes.predictions ? p.outcomes.total_ms / static_cast<double>(p.outcomes.predictions) : 0.0,
                   p.max_prediction_ms);
       std::printf("no hypothesis     %llu no control point, %llu too little structure, %llu no reference corner,\n"
-                  "                  %llu below the similarity threshold, %llu nothing to predict\n",
+                  "                  %llu below the similarity threshold, %llu ambiguous, %llu nothing to predict\n",
                   static_cast<unsigned long long>(p.outcomes.no_control_point),
                   static_cast<unsigned long long>(p.outcomes.too_little_structure),
                   static_cast<unsigned long long>(p.outcomes.no_reference_corner),
                   static_cast<unsigned long long>(p.outcomes.below_threshold),
+                  static_cast<unsigned long long>(p.outcomes.ambiguous),
                   static_cast<unsigned long long>(p.outcomes.nothing_to_predict));
       std::printf("updates weighed   %d with hypothesis points, %d used them (hit-ratio recovery %s)\n",
                   s.updates_with_hypothesis_points, s.updates_using_predictions, options.recovery ? "on" : "off");

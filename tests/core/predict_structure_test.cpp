@@ -165,6 +165,35 @@ TEST(StructurePredictor, PredictsTheHiddenHalfOfARepeatedRoom) {
   EXPECT_GT(predictor.stats().last_ms, 0.0);
 }
 
+// Rooms A and B as before, and a room C east of them that looks like both from its door to 3.5 m
+// in (where room B is explored) but is only 5 m wide, with no pillar. A and C fit B's explored
+// half equally well and predict its hidden half differently: the match is ambiguous.
+TEST(StructurePredictor, TwoEquallyGoodReferencesThatDisagreeGiveNoHypothesis) {
+  Scene scene = HalfExploredRooms();
+  for (OccupancyGrid* grid : {&scene.truth, &scene.built}) {
+    PaintFree(*grid, 24.0, 0.0, 35.0, 2.0);
+    PaintWall(*grid, {24.0, 0.01}, {35.0, 0.01});
+    PaintFree(*grid, 24.01, 2.0, 29.01, 8.0);
+    PaintWall(*grid, {24.01, 8.0}, {29.01, 8.0});
+    PaintWall(*grid, {24.01, 2.0}, {24.01, 8.0});
+    PaintWall(*grid, {29.01, 2.0}, {29.01, 8.0});
+    PaintWall(*grid, {26.51, 6.0}, {26.51, 8.0});  // the stub, as in A and B
+    PaintWall(*grid, {24.0, 2.01}, {26.01, 2.01});
+    PaintWall(*grid, {27.01, 2.01}, {35.0, 2.01});  // its door at the same place as theirs
+  }
+  StructurePredictor predictor;
+  EXPECT_FALSE(predictor.Predict(scene.built, scene.target, 1.0).has_value());
+  EXPECT_EQ(predictor.last_report().outcome, PredictionReport::Outcome::kAmbiguous)
+      << "outcome " << static_cast<int>(predictor.last_report().outcome);
+  EXPECT_EQ(predictor.stats().ambiguous, 1u);
+
+  // The paper's rule, the best match whatever the others say, predicts.
+  PredictorOptions paper;
+  paper.ambiguity_margin = 0.0;
+  StructurePredictor best_only(paper);
+  EXPECT_TRUE(best_only.Predict(scene.built, scene.target, 1.0).has_value());
+}
+
 // The same two rooms, turned by 'degrees' about the origin, mapped by the real inverse sensor
 // model from 360-degree scans: walls come out as laser maps draw them, with jagged oblique edges
 // and undecided cells at the fringes, instead of clean painted lines.

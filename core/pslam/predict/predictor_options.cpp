@@ -45,6 +45,10 @@ std::optional<std::string> ValidatePredictorOptions(const PredictorOptions& o) {
             "must be 0, 1 or 2");
   c.Require(o.refined_candidates >= 0, "refined_candidates", o.refined_candidates, "must be >= 0");
   c.Require(o.coarse_rescored >= 0, "coarse_rescored", o.coarse_rescored, "must be >= 0");
+  c.Require(std::isfinite(o.ambiguity_margin) && o.ambiguity_margin >= 0.0 && o.ambiguity_margin <= 1.0,
+            "ambiguity_margin", o.ambiguity_margin, "must lie in [0, 1]");
+  c.Require(std::isfinite(o.ambiguity_agreement) && o.ambiguity_agreement >= 0.0 && o.ambiguity_agreement <= 1.0,
+            "ambiguity_agreement", o.ambiguity_agreement, "must lie in [0, 1]");
   c.Require(o.states.free_below > 0.0 && o.states.free_below <= 0.5, "states.free_below", o.states.free_below,
             "must lie in (0, 0.5]");
   c.Require(o.states.occupied_above >= 0.5 && o.states.occupied_above < 1.0, "states.occupied_above",

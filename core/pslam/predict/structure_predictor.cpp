@@ -96,6 +96,27 @@ Candidate Refine(const RegionMatcher& matcher, const Candidate& start, double an
   return best;
 }
 
+// The aligned reference on the cells 'target' has not explored, unknown elsewhere: what the
+// alignment predicts.
+CellRaster PredictedPart(const CellRaster& target, const CellRaster& aligned) {
+  CellRaster predicted(target.origin, target.width, target.height);
+  for (std::size_t i = 0; i < target.cells.size(); ++i) {
+    if (target.cells[i] == CellState::kUnknown) predicted.cells[i] = aligned.cells[i];
+  }
+  return predicted;
+}
+
+// Whether 'other' predicts the cells of 'predicted' alike (see PredictorOptions::ambiguity_*):
+// Psi over the cells 'predicted' holds, or agreement when neither side has a wall there. A wall
+// the other alignment does not know counts against: a prediction only one of two equally good
+// references makes is not corroborated. (Counting only cells both know was measured too: on the
+// office, seeds 1-3, 57.6 % of hypotheses reached Psi 0.4 against the final map, against 66.1 %.)
+bool Agrees(const CellRaster& predicted, const CellRaster& other, const PredictorOptions& o) {
+  const OverlapCounts overlap = CountOverlap(predicted, other, o.tolerance_cells);
+  if (overlap.target_occupied + overlap.aligned_occupied == 0) return true;
+  return overlap.Psi() >= o.ambiguity_agreement;
+}
+
 }  // namespace
 
 StructurePredictor::StructurePredictor(const PredictorOptions& options)
@@ -119,6 +140,7 @@ std::optional<Hypothesis> StructurePredictor::Predict(const OccupancyGrid& map, 
     case PredictionReport::Outcome::kTooLittleStructure: ++stats_.too_little_structure; break;
     case PredictionReport::Outcome::kNoReferenceCorner: ++stats_.no_reference_corner; break;
     case PredictionReport::Outcome::kBelowThreshold: ++stats_.below_threshold; break;
+    case PredictionReport::Outcome::kAmbiguous: ++stats_.ambiguous; break;
     case PredictionReport::Outcome::kNothingToPredict: ++stats_.nothing_to_predict; break;
     case PredictionReport::Outcome::kCancelled: ++stats_.cancelled; break;
   }
@@ -242,6 +264,24 @@ std::optional<Hypothesis> StructurePredictor::Run(const OccupancyGrid& map, cons
     report_.outcome = Outcome::kBelowThreshold;
     report_.search_ms = MsSince(search_start);
     return std::nullopt;
+  }
+
+  // An equally good alignment that predicts something else: the match is ambiguous.
+  if (options_.ambiguity_margin > 0.0) {
+    const CellRaster predicted = PredictedPart(target_raster, *best_aligned);
+    for (const Candidate& other : candidates) {
+      if (other.psi < best.psi - options_.ambiguity_margin) break;  // sorted by Psi
+      if (stop.stop_requested()) {
+        report_.outcome = Outcome::kCancelled;
+        return std::nullopt;
+      }
+      const CellRaster aligned = AlignReference(map, target_box, other.alignment, classify_);
+      if (!Agrees(predicted, aligned, options_)) {
+        report_.outcome = Outcome::kAmbiguous;
+        report_.search_ms = MsSince(search_start);
+        return std::nullopt;
+      }
+    }
   }
 
   // 5. The hypothesis: reference states on the never-observed cells of S_f only.

@@ -40,6 +40,7 @@ struct PredictionReport {
     kTooLittleStructure, // the explored part of S_f has less than min_structure_m of walls
     kNoReferenceCorner,  // no corner to pair with outside the target neighbourhood
     kBelowThreshold,     // the best Psi stayed below similarity_threshold
+    kAmbiguous,          // a near-equal alignment predicts the unexplored part differently
     kNothingToPredict,   // a match, but S_f has no unexplored cell the reference knows
     kCancelled,          // the stop token fired
   };
@@ -60,6 +61,7 @@ struct PredictorStats {
   std::uint64_t too_little_structure = 0;
   std::uint64_t no_reference_corner = 0;
   std::uint64_t below_threshold = 0;
+  std::uint64_t ambiguous = 0;
   std::uint64_t nothing_to_predict = 0;
   std::uint64_t cancelled = 0;
   double last_ms = 0.0;
