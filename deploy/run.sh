@@ -38,8 +38,10 @@ for _ in $(seq 1 100); do
   kill -0 "$server_pid" 2>/dev/null || { echo "pslam-server failed to start (is port $port free? set PSLAM_PORT)" >&2; exit 1; }
   sleep 0.1
 done
+# The simulated LMS-200 reaches 8 m, so in a long corridor it sees neither end: the degeneracy
+# guard keeps scan matching from sliding along it (README, Experiments).
 build/bin/pslam-agent --server "127.0.0.1:$port" --source "sim:$world" --rate "$rate" \
-  --spool "$data/agent-spool" --session-name "simulated $world" &
+  --spool "$data/agent-spool" --session-name "simulated $world" --settings '{"degenerate_ratio": 0.15}' &
 agent_pid=$!
 
 echo

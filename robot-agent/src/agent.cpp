@@ -48,6 +48,7 @@ Agent::Agent(AgentOptions options, std::unique_ptr<ScanSource> source)
   HelloMessage hello;
   hello.robot_id = options_.robot_id;
   hello.session_name = options_.session_name;
+  hello.settings_json = options_.session_settings_json;
   hello.laser = source_->laser();
   link_ = std::make_unique<ServerLink>(link, *spool_, hello);
 }

@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <functional>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 namespace pslam::agent {
@@ -91,6 +92,8 @@ link:
   --token T                   agent token (else $PSLAM_AGENT_TOKEN)
   --robot-id ID               (pioneer-1)
   --session-name NAME
+  --settings JSON             mapping settings of a new session, e.g. '{"particles": 40}'
+                              (schema/ws/session_settings.schema.json; the server checks them)
   --scan-format binary|json   (binary)
   --spool DIR                 spool directory (pslam-agent-spool)
   --spool-max-mb MB           spool size bound (256)
@@ -132,6 +135,11 @@ ParsedOptions ParseAgentOptions(const std::vector<std::string>& args) {
       {"--laser-offset", [&](const std::string& v) { o.laser_offset = ParsePose("--laser-offset", v); }},
       {"--robot-id", [&](const std::string& v) { o.robot_id = v; }},
       {"--session-name", [&](const std::string& v) { o.session_name = v; }},
+      {"--settings", [&](const std::string& v) {
+         const nlohmann::json settings = nlohmann::json::parse(v, nullptr, false);
+         if (!settings.is_object()) throw std::invalid_argument("--settings: a JSON object, got '" + v + "'");
+         o.session_settings_json = settings.dump();
+       }},
       {"--scan-format", [&](const std::string& v) {
          if (v != "binary" && v != "json") throw std::invalid_argument("--scan-format: binary or json, got '" + v + "'");
          o.binary_scans = v == "binary";

@@ -23,6 +23,7 @@ struct AgentOptions {
   std::string token;  // --token, else $PSLAM_AGENT_TOKEN
   std::string robot_id = "pioneer-1";
   std::string session_name;
+  std::string session_settings_json;  // a JSON object sent as hello.settings; empty: none
   bool binary_scans = true;
 
   // Source: "sim[:WORLD]", "log:FILE", "pioneer:DEVICE" (+ "--laser sick:DEVICE").

@@ -1,5 +1,7 @@
 #include "link/messages.hpp"
 
+#include "agent_options.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -77,6 +79,23 @@ TEST(MessagesTest, JsonFormsMatchTheSchemaExamples) {
   EXPECT_EQ(h["laser"]["beams"], 181);
   EXPECT_DOUBLE_EQ(h["laser"]["offset"]["x"].get<double>(), 0.16);
   EXPECT_FALSE(h.contains("session_name"));
+}
+
+TEST(MessagesTest, SettingsFromTheCommandLineGoIntoTheHello) {
+  const ParsedOptions parsed = ParseAgentOptions({"--server", "127.0.0.1:9", "--source", "sim:maze", "--settings", R"({"degenerate_ratio": 0.15, "particles": 40})"});
+  ASSERT_TRUE(parsed.options) << parsed.error;
+  HelloMessage hello;
+  hello.settings_json = parsed.options->session_settings_json;
+  const auto h = nlohmann::json::parse(EncodeHello(hello));
+  EXPECT_DOUBLE_EQ(h["settings"]["degenerate_ratio"].get<double>(), 0.15);
+  EXPECT_EQ(h["settings"]["particles"], 40);
+  EXPECT_FALSE(nlohmann::json::parse(EncodeHello(HelloMessage{})).contains("settings"));
+  // Not a JSON object: refused at once, naming the option.
+  for (const char* bad : {"[1, 2]", "{\"particles\": ", "40"}) {
+    const ParsedOptions refused = ParseAgentOptions({"--server", "127.0.0.1:9", "--source", "sim:maze", "--settings", bad});
+    EXPECT_FALSE(refused.options) << bad;
+    EXPECT_NE(refused.error.find("--settings"), std::string::npos) << refused.error;
+  }
 }
 
 TEST(MessagesTest, ParsesServerMessages) {

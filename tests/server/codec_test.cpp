@@ -6,10 +6,12 @@
 
 #include "api/query.hpp"
 #include "api/router.hpp"
+#include "engine/slam_pipeline.hpp"
 #include "engine/tile_codec.hpp"
 #include "engine/tile_tracker.hpp"
 #include "service/api_error.hpp"
 #include "service/ingest_codec.hpp"
+#include "service/settings_codec.hpp"
 
 namespace pslam::server {
 namespace {
@@ -69,6 +71,20 @@ TEST(IngestCodecTest, JsonScansAreCheckedStrictly) {
       R"({"type":"hello","version":1,"session":"s-1","settings":{"particles":5}})", nullptr, limits);
   ASSERT_TRUE(std::holds_alternative<HelloMessage>(hello));
   EXPECT_EQ(std::get<HelloMessage>(hello).session, "s-1");
+}
+
+TEST(SettingsCodecTest, DegeneracyGuardReachesBothScanMatchesAndIsBounded) {
+  const SettingsLimits limits;
+  const SessionSettings s = ParseSessionSettings(nlohmann::json{{"degenerate_ratio", 0.15}}, {}, limits);
+  EXPECT_DOUBLE_EQ(s.degenerate_ratio, 0.15);
+  const PSlamOptions options = ToPSlamOptions(s);
+  EXPECT_DOUBLE_EQ(options.filter.tracking_match.degenerate_ratio, 0.15);
+  EXPECT_DOUBLE_EQ(options.filter.particle_match.degenerate_ratio, 0.15);
+  // Stored sessions come back with the same settings.
+  EXPECT_DOUBLE_EQ(ParseSessionSettings(SessionSettingsToJson(s), {}, limits).degenerate_ratio, 0.15);
+  EXPECT_DOUBLE_EQ(ToPSlamOptions(SessionSettings{}).filter.tracking_match.degenerate_ratio, 0.0);  // off by default
+  EXPECT_ANY_THROW(ParseSessionSettings(nlohmann::json{{"degenerate_ratio", 1.0}}, {}, limits));
+  EXPECT_ANY_THROW(ParseSessionSettings(nlohmann::json{{"degenerate_ratio", "high"}}, {}, limits));
 }
 
 TEST(TileTrackerTest, ReportsWrittenTilesOnlyAndSurvivesCopies) {

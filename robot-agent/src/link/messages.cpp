@@ -96,6 +96,7 @@ std::string EncodeHello(const HelloMessage& hello) {
         {"min_range", hello.laser.min_range},
         {"offset", {{"x", hello.laser.offset.x}, {"y", hello.laser.offset.y}, {"theta", hello.laser.offset.theta}}}}}};
   if (!hello.session_name.empty()) j["session_name"] = hello.session_name;
+  if (!hello.settings_json.empty()) j["settings"] = nlohmann::json::parse(hello.settings_json);
   return j.dump();
 }
 

@@ -37,6 +37,7 @@ struct HelloMessage {
   std::string robot_id;
   std::string session = "new";  // "new" or the id of the session to resume
   std::string session_name;     // omitted when empty
+  std::string settings_json;    // a JSON object, omitted when empty
   LaserDescription laser;
 };
 

@@ -24,6 +24,9 @@ struct SessionSettings {
   double linear_update = 0.25;     // metres of motion between filter updates
   double angular_update = 0.2;     // radians of turn between filter updates
   double resample_threshold = 0.5; // resample when N_eff < threshold * particles
+  // Scan matching's degeneracy guard (ScanMatchOptions::degenerate_ratio), 0: off. A short-range
+  // laser that sees neither end of a corridor needs it (0.15 for the simulated 8 m LMS-200).
+  double degenerate_ratio = 0.0;
   // Settings of the structure predictor as a JSON object, kept opaque here: the predictor layer
   // parses (and validates) it, so adding a predictor tunable does not touch the server.
   std::string predictor_json = "{}";

@@ -40,6 +40,10 @@ SessionSettings ParseSessionSettings(const nlohmann::json& json, const SessionSe
     if (*v <= 0.0 || *v > 1.0) f.Fail("resample_threshold", "must be in (0, 1]");
     s.resample_threshold = *v;
   }
+  if (auto v = f.Number("degenerate_ratio")) {
+    if (*v < 0.0 || *v >= 1.0) f.Fail("degenerate_ratio", "must be in [0, 1)");
+    s.degenerate_ratio = *v;
+  }
   if (const nlohmann::json* p = f.Object("predictor")) s.predictor_json = p->dump();
   f.RejectUnknown();
   // The engine builds its P-SLAM from these settings; refuse them here, while the client can still
@@ -61,6 +65,7 @@ nlohmann::json SessionSettingsToJson(const SessionSettings& s) {
           {"linear_update_meters", s.linear_update},
           {"angular_update_radians", s.angular_update},
           {"resample_threshold", s.resample_threshold},
+          {"degenerate_ratio", s.degenerate_ratio},
           {"predictor", nlohmann::json::parse(s.predictor_json, nullptr, false).is_object()
                             ? nlohmann::json::parse(s.predictor_json)
                             : nlohmann::json::object()}};
