@@ -74,7 +74,9 @@ std::string SharedDataDir() {
 
 const char* const kExplorationFlagsUsage =
     "  --seed S (1)  --particles N (30)  --threads T (0: all cores)  --time-limit S (simulated)\n"
-    "  --similarity-threshold PSI (0.6, the paper's simulations)  --prediction-range M (10)\n";
+    "  --similarity-threshold PSI (0.6, the paper's simulations)  --prediction-range M (10)\n"
+    "  --ambiguity-margin M (0.1; 0: the paper's best match, no ambiguity rule)\n"
+    "  --degenerate-ratio R (0.15; 0: no degeneracy guard in scan matching)\n";
 
 ExplorationOptions ExplorationFromCli(CliArgs& cli, double default_time_limit_s) {
   ExplorationOptions options = DefaultExplorationOptions();
@@ -85,6 +87,11 @@ ExplorationOptions ExplorationFromCli(CliArgs& cli, double default_time_limit_s)
   options.slam.filter.threads = cli.Int("--threads", options.slam.filter.threads);
   options.slam.predictor.similarity_threshold = cli.Double("--similarity-threshold", 0.6);
   options.slam.predictor.region_size_m = cli.Double("--prediction-range", options.slam.predictor.region_size_m);
+  options.slam.predictor.ambiguity_margin = cli.Double("--ambiguity-margin", options.slam.predictor.ambiguity_margin);
+  const double degenerate_ratio = cli.Double("--degenerate-ratio", options.slam.filter.tracking_match.degenerate_ratio);
+  if (!(degenerate_ratio >= 0.0 && degenerate_ratio < 1.0)) cli.AddError("--degenerate-ratio must lie in [0, 1)");
+  options.slam.filter.tracking_match.degenerate_ratio = degenerate_ratio;
+  options.slam.filter.particle_match.degenerate_ratio = degenerate_ratio;
   options.time_limit_s = cli.Double("--time-limit", default_time_limit_s);
   if (options.slam.filter.particles < 1) cli.AddError("--particles must be at least 1");
   if (!(options.time_limit_s > 0.0)) cli.AddError("--time-limit must be positive");
