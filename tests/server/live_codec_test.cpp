@@ -83,9 +83,22 @@ TEST(LiveCodecTest, ATickSendsANewScanOnceAndStatsOnlyWhenDue) {
   EXPECT_EQ(first.particles->substr(0, 4), "PSPT");
   EXPECT_TRUE(first.stats);
   const LiveDelta same_scan = state.Apply(Tick(5, false));
-  EXPECT_FALSE(same_scan.scan);   // unchanged: not sent again
-  EXPECT_FALSE(same_scan.stats);  // not due
-  EXPECT_TRUE(same_scan.pose);
+  EXPECT_FALSE(same_scan.scan);       // unchanged: not sent again
+  EXPECT_FALSE(same_scan.pose);       // nor are the pose and the particles
+  EXPECT_FALSE(same_scan.particles);
+  EXPECT_FALSE(same_scan.stats);      // not due
+  // A tick that only brings due stats sends only them.
+  const LiveDelta stats_only = state.Apply(Tick(5, true));
+  EXPECT_TRUE(stats_only.stats);
+  EXPECT_FALSE(stats_only.pose);
+  EXPECT_FALSE(stats_only.particles);
+  // A moved robot and moved particles are sent.
+  LiveFrame moved = Tick(5, false);
+  moved.pose = Pose2D(1.5, 2.0, 0.5);
+  moved.particles[0].x += 0.01;
+  const LiveDelta after_move = state.Apply(moved);
+  EXPECT_TRUE(after_move.pose);
+  EXPECT_TRUE(after_move.particles);
   // The snapshot has the current stats even when the tick did not send them, and rounded particles.
   state.Apply(Tick(6, false));
   const nlohmann::json snapshot = nlohmann::json::parse(*state.Snapshot().front().data);

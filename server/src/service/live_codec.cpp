@@ -139,17 +139,25 @@ LiveDelta LiveState::Apply(const LiveFrame& f) {
     tiles_[{t.tx, t.ty}] = frame;
     d.tiles.emplace_back(TileKey{t.tx, t.ty}, std::move(frame));
   }
+  // Pose and particles go out when they changed: a tick that only brings due stats, or a plan,
+  // does not resend them.
   if (f.pose) {
-    pose_ = PoseJson(*f.pose);
-    d.pose = MakeBytes(Dump(pose_));
+    nlohmann::json pose = PoseJson(*f.pose);
+    if (pose != pose_) {
+      pose_ = std::move(pose);
+      d.pose = MakeBytes(Dump(pose_));
+    }
   }
   if (f.scan && f.pose && f.scan_seq != scan_seq_) {
     scan_seq_ = f.scan_seq;
     d.scan = EncodeScanFrame(f.scan_seq, *f.scan, *f.pose);
   }
   if (!f.particles.empty()) {
-    particles_ = ParticlesJson(f.particles, f.weights);
-    d.particles = EncodeParticleFrame(f.particles, f.weights);
+    nlohmann::json particles = ParticlesJson(f.particles, f.weights);  // rounded: 1 mm, 0.001 rad
+    if (particles != particles_) {
+      particles_ = std::move(particles);
+      d.particles = EncodeParticleFrame(f.particles, f.weights);
+    }
   }
   stats_ = {{"type", "stats"}, {"stats", EngineStatsToJson(f.stats)}};
   if (f.send_stats) d.stats = MakeBytes(Dump(stats_));
