@@ -90,8 +90,7 @@ ExplorationOptions ExplorationFromCli(CliArgs& cli, double default_time_limit_s)
   options.slam.predictor.ambiguity_margin = cli.Double("--ambiguity-margin", options.slam.predictor.ambiguity_margin);
   const double degenerate_ratio = cli.Double("--degenerate-ratio", options.slam.filter.tracking_match.degenerate_ratio);
   if (!(degenerate_ratio >= 0.0 && degenerate_ratio < 1.0)) cli.AddError("--degenerate-ratio must lie in [0, 1)");
-  options.slam.filter.tracking_match.degenerate_ratio = degenerate_ratio;
-  options.slam.filter.particle_match.degenerate_ratio = degenerate_ratio;
+  SetDegenerateRatio(options.slam.filter, degenerate_ratio);
   options.time_limit_s = cli.Double("--time-limit", default_time_limit_s);
   if (options.slam.filter.particles < 1) cli.AddError("--particles must be at least 1");
   if (!(options.time_limit_s > 0.0)) cli.AddError("--time-limit must be positive");

@@ -23,8 +23,7 @@ ExplorationOptions DefaultExplorationOptions() {
   // along corridors in most maze runs (mean position error 0.3-1.5 m in 8 of 12, against 1 of 12
   // with it). On the Intel log, whose corridors the laser spans, it made matters worse (6 of 10
   // seeds within 3 cm against 8 of 10), so it is not the filter's default.
-  options.slam.filter.tracking_match.degenerate_ratio = 0.15;
-  options.slam.filter.particle_match.degenerate_ratio = 0.15;
+  SetDegenerateRatio(options.slam.filter, 0.15);
   return options;
 }
 

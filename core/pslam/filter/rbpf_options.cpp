@@ -86,6 +86,11 @@ const std::map<std::string, Setter>& Setters() {
 
 }  // namespace
 
+void SetDegenerateRatio(RbpfOptions& options, double ratio) {
+  options.tracking_match.degenerate_ratio = ratio;
+  options.particle_match.degenerate_ratio = ratio;
+}
+
 std::string SetRbpfOption(RbpfOptions& options, const std::string& name, const std::string& value) {
   const auto it = Setters().find(name);
   if (it == Setters().end()) return "unknown option '" + name + "'";

@@ -55,6 +55,10 @@ namespace pslam {
 // that a typo never silently falls back to a default.
 std::string SetRbpfOption(RbpfOptions& options, const std::string& name, const std::string& value);
 
+// The scan matcher's degeneracy guard (ScanMatchOptions::degenerate_ratio) for both the tracking
+// and the particle matches, as the simulated explorations and server sessions set it.
+void SetDegenerateRatio(RbpfOptions& options, double ratio);
+
 // Names of every option SetRbpfOption accepts, for help texts.
 std::vector<std::string> RbpfOptionNames();
 

@@ -182,10 +182,7 @@ void SessionEngine::Process(const InputRecord& input, std::optional<SteadyTime> 
     stored_hypotheses_.push_back(std::move(h));
   }
   for (std::int64_t id : step.hypotheses_removed) live_removed_.push_back(id);
-  if (step.target) {
-    live_target_ = step.target;
-    if (sinks_.target && !rebuilding_) sinks_.target(*step.target);
-  }
+  if (step.target) SendTarget(*step.target);
   processed_seq_ = input.seq;
   live_dirty_ = stored_dirty_ = true;
   if (sinks_.progress) sinks_.progress(input.seq);
@@ -204,8 +201,12 @@ void SessionEngine::TakePlan() {
   if (pipeline_->frontiers() != frontiers_before) live_dirty_ = true;
   if (!target) return;
   live_dirty_ = true;
+  SendTarget(*target);
+}
+
+void SessionEngine::SendTarget(const ExplorationTarget& target) {
   live_target_ = target;
-  if (sinks_.target && !rebuilding_) sinks_.target(*target);
+  if (sinks_.target && !rebuilding_) sinks_.target(target);
 }
 
 void SessionEngine::RecordTiming(double latency_ms, double step_ms) {

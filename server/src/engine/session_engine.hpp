@@ -85,6 +85,7 @@ class SessionEngine {
   void Loop(BacklogReader backlog, std::int64_t backlog_until);
   void Process(const InputRecord& input, std::optional<SteadyTime> received);
   void TakePlan();
+  void SendTarget(const ExplorationTarget& target);  // to the viewers and (unless rebuilding) the agent
   void PublishLive(bool final_tick = false);
   bool StatsDue(SteadyTime now) const;
   SteadyTime::duration StatsPeriod() const;

@@ -38,8 +38,7 @@ PSlamOptions ToPSlamOptions(const SessionSettings& settings) {
   f.linear_update = settings.linear_update;
   f.angular_update = settings.angular_update;
   f.resample_threshold = settings.resample_threshold;
-  f.tracking_match.degenerate_ratio = settings.degenerate_ratio;
-  f.particle_match.degenerate_ratio = settings.degenerate_ratio;
+  SetDegenerateRatio(f, settings.degenerate_ratio);
   o.predict = settings.predict;
   o.heading_targets = !settings.plan_targets;
   // Predictor tunables arrive as a JSON object; unknown keys are errors, not silent defaults.

@@ -153,10 +153,12 @@ LiveDelta LiveState::Apply(const LiveFrame& f) {
     d.scan = EncodeScanFrame(f.scan_seq, *f.scan, *f.pose);
   }
   if (!f.particles.empty()) {
-    nlohmann::json particles = ParticlesJson(f.particles, f.weights);  // rounded: 1 mm, 0.001 rad
-    if (particles != particles_) {
-      particles_ = std::move(particles);
-      d.particles = EncodeParticleFrame(f.particles, f.weights);
+    // Compared as encoded (cheap); the snapshot's JSON is only rebuilt when the cloud changed.
+    Bytes frame = EncodeParticleFrame(f.particles, f.weights);
+    if (!particle_frame_ || *frame != *particle_frame_) {
+      particle_frame_ = frame;
+      particles_ = ParticlesJson(f.particles, f.weights);
+      d.particles = std::move(frame);
     }
   }
   stats_ = {{"type", "stats"}, {"stats", EngineStatsToJson(f.stats)}};

@@ -69,6 +69,7 @@ class LiveState {
   std::map<TileKey, Bytes> tiles_;
   std::vector<TrajectoryRow> trajectory_;
   nlohmann::json pose_, particles_, stats_, exploration_;
+  Bytes particle_frame_;  // the last particle frame sent: an unchanged cloud is not sent again
   std::map<std::int64_t, nlohmann::json> hypotheses_;
 };
 
