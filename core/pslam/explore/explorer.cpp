@@ -14,11 +14,24 @@ std::uint64_t Key(const Eigen::Vector2i& c) {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.x())) << 32) | static_cast<std::uint32_t>(c.y());
 }
 
+// Whether an occupied cell of the map or a predicted wall lies within 'cells' (Chebyshev) of c.
+bool NearWall(const OccupancyGrid& grid, const Eigen::Vector2i& c, int cells, const CellClassOptions& classes,
+              const CoveredPredicate& predicted_wall) {
+  for (int dy = -cells; dy <= cells; ++dy) {
+    for (int dx = -cells; dx <= cells; ++dx) {
+      const Eigen::Vector2i n = c + Eigen::Vector2i(dx, dy);
+      if (Classify(grid, n, classes) == CellClass::kOccupied) return true;
+      if (predicted_wall && predicted_wall(n)) return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierCluster& cluster, double radius,
                                       const CellClassOptions& classes, const CoveredPredicate& covered,
-                                      const CoveredPredicate& predicted_wall) {
+                                      const CoveredPredicate& predicted_wall, int seal_cells) {
   // Multi-source Dijkstra (8-connected step lengths) from the cluster's cells into the unknown
   // region behind them, out to 'radius': the space the robot would reveal by going there. Bounded
   // by the number of unknown cells within the radius.
@@ -42,6 +55,7 @@ std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierC
       ++unknown;
       if (covered && covered(c)) ++hit;
       if (predicted_wall && predicted_wall(c)) continue;  // the space behind is another's
+      if (NearWall(grid, c, seal_cells, classes, predicted_wall)) continue;
     }
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) {
@@ -107,7 +121,7 @@ ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest
     if (options.mode == ExploreMode::kSkipPredicted && request.covered) {
       const auto fraction =
           CoveredFraction(grid, cluster, options.skip_radius, options.frontier.classes, request.covered,
-                          request.predicted_wall);
+                          request.predicted_wall, options.wall_seal_cells);
       if (fraction && *fraction >= options.skip_covered_fraction) {
         ++decision.skipped;
         continue;
