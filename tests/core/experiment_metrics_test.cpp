@@ -64,6 +64,23 @@ TEST(ExperimentMetricsTest, BuiltMapSimilarityIgnoresWhatTheMapNeverSaw) {
   EXPECT_NEAR(KnownArea(room), 40 * 40 * 0.05 * 0.05, 1e-9);
 }
 
+TEST(ExperimentMetricsTest, MappedOrPredictedCountsTheFreeAreaEitherAccountsFor) {
+  const OccupancyGrid room = Room();  // 38 x 38 free cells inside the walls
+  OccupancyGrid left_half(0.05);
+  for (int y = 0; y < 40; ++y) {
+    for (int x = 0; x < 20; ++x) left_half.MutableAt(x, y) = room.At(x, y);
+  }
+  EXPECT_DOUBLE_EQ(MappedOrPredictedFraction(room, room, {}), 1.0);
+  EXPECT_DOUBLE_EQ(MappedOrPredictedFraction(room, left_half, {}), 19.0 / 38.0);  // x = 1..19 of 1..38
+  std::vector<HypothesisCell> predicted;
+  for (int x = 20; x < 30; ++x) {
+    for (const HypothesisCell& c : Column(x, false)) predicted.push_back(c);
+  }
+  EXPECT_DOUBLE_EQ(MappedOrPredictedFraction(room, left_half, predicted), 29.0 / 38.0);
+  // Predictions outside the reference's free area add nothing.
+  EXPECT_DOUBLE_EQ(MappedOrPredictedFraction(room, left_half, Column(60, false)), 19.0 / 38.0);
+}
+
 TEST(ExperimentMetricsTest, CropKeepsOnlyTheBoxAndItsFrontiersBecomeTargets) {
   const OccupancyGrid crop = CropMap(Room(), CellBox{{0, 0}, {19, 39}});
   EXPECT_TRUE(crop.IsKnown(19, 20));

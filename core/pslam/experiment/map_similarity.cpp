@@ -1,5 +1,8 @@
 #include "pslam/experiment/map_similarity.hpp"
 
+#include <cstdint>
+#include <unordered_set>
+
 #include "pslam/predict/similarity.hpp"
 
 namespace pslam {
@@ -57,6 +60,26 @@ double BuiltMapSimilarity(const OccupancyGrid& built, const OccupancyGrid& refer
     if (!IsExplored(built_raster.cells[i])) reference_raster.cells[i] = CellState::kUnknown;
   }
   return Similarity(reference_raster, built_raster, options.tolerance_cells);
+}
+
+double MappedOrPredictedFraction(const OccupancyGrid& reference, const OccupancyGrid& built,
+                                 const std::vector<HypothesisCell>& predicted) {
+  std::unordered_set<std::uint64_t> predicted_cells;
+  const auto key = [](const Eigen::Vector2i& c) {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.x())) << 32) | static_cast<std::uint32_t>(c.y());
+  };
+  for (const HypothesisCell& c : predicted) predicted_cells.insert(key(c.cell));
+  const CellBox box = reference.KnownBounds();
+  std::size_t free = 0, accounted = 0;
+  for (int y = box.min.y(); y <= box.max.y(); ++y) {
+    for (int x = box.min.x(); x <= box.max.x(); ++x) {
+      if (!reference.IsKnown(x, y) || reference.Probability(x, y) >= 0.5f) continue;
+      ++free;
+      const Eigen::Vector2i in_built = built.WorldToCell(reference.CellCenter({x, y}));
+      accounted += built.IsKnown(in_built.x(), in_built.y()) || predicted_cells.count(key({x, y})) > 0;
+    }
+  }
+  return free > 0 ? static_cast<double>(accounted) / static_cast<double>(free) : 0.0;
 }
 
 double KnownArea(const OccupancyGrid& map) {

@@ -40,6 +40,12 @@ std::vector<HypothesisCell> MergedPredictedCells(const PSlam& slam,
 double BuiltMapSimilarity(const OccupancyGrid& built, const OccupancyGrid& reference,
                           const SimilarityOptions& options = {});
 
+// The share of the reference's free cells that 'built' knows or 'predicted' (cells of the
+// reference's lattice) covers: how much of the world a run left neither mapped nor predicted. A
+// skip-predicted run is only shorter for a reason if this stays near the full-coverage run's.
+double MappedOrPredictedFraction(const OccupancyGrid& reference, const OccupancyGrid& built,
+                                 const std::vector<HypothesisCell>& predicted);
+
 // Area of the cells a map knows, in square metres.
 double KnownArea(const OccupancyGrid& map);
 
