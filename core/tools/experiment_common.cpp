@@ -76,6 +76,7 @@ const char* const kExplorationFlagsUsage =
     "  --seed S (1)  --particles N (30)  --threads T (0: all cores)  --time-limit S (simulated)\n"
     "  --similarity-threshold PSI (0.6, the paper's simulations)  --prediction-range M (10)\n"
     "  --ambiguity-margin M (0.1; 0: the paper's best match, no ambiguity rule)\n"
+    "  --control-point-range M (3: the corner nearest the target within M is the control point)\n"
     "  --degenerate-ratio R (0.15; 0: no degeneracy guard in scan matching)\n";
 
 ExplorationOptions ExplorationFromCli(CliArgs& cli, double default_time_limit_s) {
@@ -87,6 +88,8 @@ ExplorationOptions ExplorationFromCli(CliArgs& cli, double default_time_limit_s)
   options.slam.filter.threads = cli.Int("--threads", options.slam.filter.threads);
   options.slam.predictor.similarity_threshold = cli.Double("--similarity-threshold", 0.6);
   options.slam.predictor.region_size_m = cli.Double("--prediction-range", options.slam.predictor.region_size_m);
+  options.slam.predictor.control_point_range_m =
+      cli.Double("--control-point-range", options.slam.predictor.control_point_range_m);
   options.slam.predictor.ambiguity_margin = cli.Double("--ambiguity-margin", options.slam.predictor.ambiguity_margin);
   const double degenerate_ratio = cli.Double("--degenerate-ratio", options.slam.filter.tracking_match.degenerate_ratio);
   if (!(degenerate_ratio >= 0.0 && degenerate_ratio < 1.0)) cli.AddError("--degenerate-ratio must lie in [0, 1)");

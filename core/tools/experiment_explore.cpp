@@ -21,14 +21,14 @@ namespace {
 constexpr const char* kUsage =
     "usage: pslam experiment explore [--world FILE.yaml] [--start X,Y,THETA] [--runs N] [--json OUT]\n"
     "                                [--save PREFIX] [--skip-fraction F] [--skip-radius M]\n"
-    "                                [--plan-on-merged-map] [--pslam-mode skip|full] [--quiet] [options]\n"
+    "                                [--plan-on-best-map] [--pslam-mode skip|full] [--quiet] [options]\n"
     "  Explores the world with the plain RBPF and full coverage, then with P-SLAM skipping predicted\n"
     "  regions, and compares the exploration times; --runs repeats both with seeds S, S+1, ...\n"
     "  Default world: core/worlds/maze.yaml. --skip-fraction and --skip-radius tune when a frontier\n"
-    "  counts as predicted (0.8, 2 m); --plan-on-merged-map plans on the map with the predictions\n"
-    "  merged in. --pslam-mode full runs P-SLAM with full coverage too, to compare maps with the same\n"
-    "  explorer (the irregular world). --save PREFIX writes PREFIX_full, PREFIX_skip and PREFIX_skip_merged maps of the\n"
-    "  first run (.pgm/.yaml/.png).\n";
+    "  counts as predicted (0.8, 2 m). P-SLAM plans on the map with its predictions merged in;\n"
+    "  --plan-on-best-map plans on the built map alone. --pslam-mode full runs P-SLAM with full\n"
+    "  coverage too, to compare maps with the same explorer (the irregular world). --save PREFIX\n"
+    "  writes PREFIX_full, PREFIX_skip and PREFIX_skip_merged maps of the first run (.pgm/.yaml/.png).\n";
 
 struct ExploreRow {
   std::string name;
@@ -38,6 +38,7 @@ struct ExploreRow {
   std::vector<double> psi_truth;   // per accepted hypothesis, against the true world
   double merged_psi = std::numeric_limits<double>::quiet_NaN();
   double merged_area_m2 = 0.0;
+  double mapped_or_predicted = 0.0;  // share of the world's free area mapped or predicted at the end
   int judged = 0;                  // hypotheses confirmed or refuted by P-SLAM's judge
   int judged_as_truth = 0;         // of which the verdict matches Psi vs truth >= confirm_psi
 };
@@ -69,6 +70,7 @@ std::string RowJson(const ExploreRow& row) {
                      {"map_psi", JsonNumber(row.map_psi)},
                      {"merged_psi", JsonNumber(row.merged_psi)},
                      {"merged_predicted_area_m2", JsonNumber(row.merged_area_m2)},
+                     {"mapped_or_predicted_fraction", JsonNumber(row.mapped_or_predicted)},
                      {"psi_truth", JsonArray(row.psi_truth)}});
 }
 
@@ -116,12 +118,13 @@ ExploreRow RunOne(const std::string& name, const WorldChoice& world, const Occup
     ++row.judged;
     row.judged_as_truth += confirmed == (row.psi_truth[i] >= options.slam.judge.confirm_psi);
   }
+  std::vector<HypothesisCell> merged;
   if (options.slam.predict) {
-    const std::vector<HypothesisCell> merged =
-        MergedPredictedCells(run.slam(), [&run](int id) { return AcceptedMapToWorld(run, id); });
+    merged = MergedPredictedCells(run.slam(), [&run](int id) { return AcceptedMapToWorld(run, id); });
     row.merged_psi = PredictionSimilarity(merged, truth);
     row.merged_area_m2 = static_cast<double>(merged.size()) * truth.resolution() * truth.resolution();
   }
+  row.mapped_or_predicted = MappedOrPredictedFraction(truth, run.slam().filter().best().map, merged);
   if (!save_prefix.empty()) {
     SaveMap(run.slam().filter().best().map, save_prefix);
     if (options.slam.predict) SaveMap(run.slam().MergedMap(), save_prefix + "_merged");
@@ -138,7 +141,7 @@ int RunExploreExperiment(CliArgs& cli) {
   const int runs = cli.Int("--runs", 1);
   options.explore.skip_covered_fraction = cli.Double("--skip-fraction", options.explore.skip_covered_fraction);
   options.explore.skip_radius = cli.Double("--skip-radius", options.explore.skip_radius);
-  options.plan_on_merged_map = cli.Flag("--plan-on-merged-map");
+  options.plan_on_merged_map = !cli.Flag("--plan-on-best-map");
   const std::string pslam_mode = cli.Value("--pslam-mode").value_or("skip");
   const std::optional<std::string> json_path = cli.Value("--json");
   const std::optional<std::string> save_prefix = cli.Value("--save");
@@ -176,7 +179,8 @@ int RunExploreExperiment(CliArgs& cli) {
     }
 
     PrintHeader();
-    std::vector<double> time_full, time_skip, merged_psi, hypothesis_psi, map_psi_full, map_psi_skip;
+    std::vector<double> time_full, time_skip, merged_psi, hypothesis_psi, map_psi_full, map_psi_skip, covered_full,
+        covered_skip;
     bool unfinished = false;
     for (int r = 0; r < runs; ++r) {
       PrintRow(full_rows[static_cast<std::size_t>(r)]);
@@ -186,6 +190,8 @@ int RunExploreExperiment(CliArgs& cli) {
       merged_psi.push_back(skip_rows[static_cast<std::size_t>(r)].merged_psi);
       map_psi_full.push_back(full_rows[static_cast<std::size_t>(r)].map_psi);
       map_psi_skip.push_back(skip_rows[static_cast<std::size_t>(r)].map_psi);
+      covered_full.push_back(full_rows[static_cast<std::size_t>(r)].mapped_or_predicted);
+      covered_skip.push_back(skip_rows[static_cast<std::size_t>(r)].mapped_or_predicted);
       for (const double v : skip_rows[static_cast<std::size_t>(r)].psi_truth) hypothesis_psi.push_back(v);
       for (const ExploreRow* row : {&full_rows[static_cast<std::size_t>(r)], &skip_rows[static_cast<std::size_t>(r)]}) {
         unfinished = unfinished || row->summary.state != ExplorationState::kExplored;
@@ -204,6 +210,8 @@ int RunExploreExperiment(CliArgs& cli) {
                 mean_full, pslam_mode.c_str(), mean_skip, runs, 100.0 * saved);
     std::printf("merged predictions       Psi vs true world %.3f (eq. 5 over the predicted cells left unexplored)\n",
                 FiniteMean(merged_psi));
+    std::printf("mapped or predicted      RBPF %.1f %%, P-SLAM %.1f %% of the true world's free area\n",
+                100.0 * FiniteMean(covered_full), 100.0 * FiniteMean(covered_skip));
     std::printf("hypotheses               %zu accepted, Psi vs true world: mean %.3f over %d, %d with Psi >= 0.5\n",
                 hypothesis_psi.size(), mean_hypothesis_psi, scored, good);
     std::printf("judge vs true world      %d of %d confirmed/refuted hypotheses agree with Psi vs truth >= %.2f\n",
@@ -236,6 +244,8 @@ int RunExploreExperiment(CliArgs& cli) {
                                 {"mean_hypothesis_psi_truth", JsonNumber(mean_hypothesis_psi)},
                                 {"map_psi_full", JsonNumber(FiniteMean(map_psi_full))},
                                 {"map_psi_skip", JsonNumber(FiniteMean(map_psi_skip))},
+                                {"mapped_or_predicted_full", JsonNumber(FiniteMean(covered_full))},
+                                {"mapped_or_predicted_skip", JsonNumber(FiniteMean(covered_skip))},
                                 {"runs", JsonArray(rows)}}));
     }
     return 0;

@@ -46,8 +46,11 @@ struct ExplorationOptions {
   // Skip-predicted only: plan on P-SLAM's merged map (the paper's "virtual mapping", Sec. II-B)
   // instead of the best map, so predicted cells count as mapped and a region whose predictions
   // close it off leaves no frontier to visit. Paths may then cross predicted free space; the
-  // obstacle stop and the give-up timeout handle predictions that turn out wrong.
-  bool plan_on_merged_map = false;
+  // obstacle stop and the give-up timeout handle predictions that turn out wrong. On the best map,
+  // a frontier is skipped once the first skip_radius of unknown space behind it is predicted, and
+  // whatever lies farther is never visited nor predicted: in the maze (seeds 1-3) such runs ended
+  // with 13 % of the free area neither mapped nor predicted, against 0.2 % on the merged map.
+  bool plan_on_merged_map = true;
   // Skip-predicted only: the explorer's "unknown" includes cells observed once or twice whose
   // probability is still undecided (cell_class.hpp), but the predictor counts every observed cell
   // as explored and never predicts it, so PSlam::IsCovered is false there. Around the ragged end
