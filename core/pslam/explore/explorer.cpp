@@ -14,7 +14,8 @@ std::uint64_t Key(const Eigen::Vector2i& c) {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.x())) << 32) | static_cast<std::uint32_t>(c.y());
 }
 
-// Whether an occupied cell of the map or a predicted wall lies within 'cells' (Chebyshev) of c.
+// Whether an occupied cell of the map or a predicted wall lies within 'cells' (Chebyshev) of c;
+// with 0, whether c itself is one.
 bool NearWall(const OccupancyGrid& grid, const Eigen::Vector2i& c, int cells, const CellClassOptions& classes,
               const CoveredPredicate& predicted_wall) {
   for (int dy = -cells; dy <= cells; ++dy) {
@@ -54,7 +55,7 @@ std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierC
       if (it != distance.end() && it->second < d) continue;  // stale
       ++unknown;
       if (covered && covered(c)) ++hit;
-      if (predicted_wall && predicted_wall(c)) continue;  // the space behind is another's
+      // A predicted wall (or a cell next to a wall): the space behind is another's.
       if (NearWall(grid, c, seal_cells, classes, predicted_wall)) continue;
     }
     for (int dy = -1; dy <= 1; ++dy) {
