@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace pslam::server {
 namespace {
@@ -15,6 +16,13 @@ constexpr double kTargetReachedMetres = 0.6;
 }  // namespace
 
 LaserScan ToLaserScan(const InputRecord& input, const LaserGeometry& laser) {
+  // Ingest admits only scans of the session's beam count, so a mismatch here is a stored input
+  // damaged since: mapping it would silently shift every beam's angle.
+  if (input.ranges.size() != static_cast<std::size_t>(laser.beams)) {
+    throw std::runtime_error("input " + std::to_string(input.seq) + " is a scan of " +
+                             std::to_string(input.ranges.size()) + " ranges, but the session's laser has " +
+                             std::to_string(laser.beams) + " beams (a damaged stored input)");
+  }
   LaserScan scan;
   scan.timestamp = input.t;
   scan.timestamp_text = input.stamp;

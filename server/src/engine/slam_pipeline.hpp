@@ -31,7 +31,8 @@ struct PipelineStep {
 };
 
 // The LaserScan for a stored scan input of a session with laser 'laser'. Ranges that are not
-// finite (NaN: no return) stay so; the filter treats them as beams without a return.
+// finite (NaN: no return) stay so; the filter treats them as beams without a return. Throws
+// std::runtime_error when the number of ranges is not the laser's beam count.
 LaserScan ToLaserScan(const InputRecord& input, const LaserGeometry& laser);
 
 // P-SLAM options for a session; throws std::invalid_argument on a bad predictor setting.

@@ -196,7 +196,8 @@ void MappingService::OpenForAgent(const HelloMessage& hello, const std::shared_p
     {
       std::lock_guard lock(rt->mutex);
       if (rt->closing) {
-        done({nullptr, 0, IngestError{"unknown_session", "session " + rt->id + " is closing"}});
+        const std::string why = rt->engine->failed() ? " has failed (its events say why)" : " is closing";
+        done({nullptr, 0, IngestError{"unknown_session", "session " + rt->id + why}});
         return;
       }
       previous = rt->agent.lock();
