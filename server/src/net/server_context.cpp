@@ -15,7 +15,7 @@ Access ServerContext::AccessOf(const http::request<http::string_body>& req, bool
     if (value.size() > kBearer.size() && beast::iequals(value.substr(0, kBearer.size()), kBearer)) {
       token = std::string(value.substr(kBearer.size()));
     } else {
-      token = "\x01";  // a malformed header is a wrong token, not a missing one
+      token.assign(1, '\x01');  // a malformed header is a wrong token, not a missing one
     }
   } else if (const auto target = ParseTarget(std::string_view(req.target().data(), req.target().size()))) {
     const auto it = target->query.find("token");
