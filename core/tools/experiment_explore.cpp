@@ -182,20 +182,21 @@ int RunExploreExperiment(CliArgs& cli) {
     std::vector<double> time_full, time_skip, merged_psi, hypothesis_psi, map_psi_full, map_psi_skip, covered_full,
         covered_skip;
     bool unfinished = false;
-    for (int r = 0; r < runs; ++r) {
-      PrintRow(full_rows[static_cast<std::size_t>(r)]);
-      PrintRow(skip_rows[static_cast<std::size_t>(r)]);
-      time_full.push_back(full_rows[static_cast<std::size_t>(r)].summary.time_s);
-      time_skip.push_back(skip_rows[static_cast<std::size_t>(r)].summary.time_s);
-      merged_psi.push_back(skip_rows[static_cast<std::size_t>(r)].merged_psi);
-      map_psi_full.push_back(full_rows[static_cast<std::size_t>(r)].map_psi);
-      map_psi_skip.push_back(skip_rows[static_cast<std::size_t>(r)].map_psi);
-      covered_full.push_back(full_rows[static_cast<std::size_t>(r)].mapped_or_predicted);
-      covered_skip.push_back(skip_rows[static_cast<std::size_t>(r)].mapped_or_predicted);
-      for (const double v : skip_rows[static_cast<std::size_t>(r)].psi_truth) hypothesis_psi.push_back(v);
-      for (const ExploreRow* row : {&full_rows[static_cast<std::size_t>(r)], &skip_rows[static_cast<std::size_t>(r)]}) {
-        unfinished = unfinished || row->summary.state != ExplorationState::kExplored;
-      }
+    for (std::size_t r = 0; r < full_rows.size(); ++r) {
+      const ExploreRow& full = full_rows[r];
+      const ExploreRow& skip = skip_rows[r];
+      PrintRow(full);
+      PrintRow(skip);
+      time_full.push_back(full.summary.time_s);
+      time_skip.push_back(skip.summary.time_s);
+      merged_psi.push_back(skip.merged_psi);
+      map_psi_full.push_back(full.map_psi);
+      map_psi_skip.push_back(skip.map_psi);
+      covered_full.push_back(full.mapped_or_predicted);
+      covered_skip.push_back(skip.mapped_or_predicted);
+      hypothesis_psi.insert(hypothesis_psi.end(), skip.psi_truth.begin(), skip.psi_truth.end());
+      unfinished = unfinished || full.summary.state != ExplorationState::kExplored ||
+                   skip.summary.state != ExplorationState::kExplored;
     }
     const double mean_full = FiniteMean(time_full), mean_skip = FiniteMean(time_skip);
     const double saved = mean_full > 0.0 ? (mean_full - mean_skip) / mean_full : 0.0;
@@ -221,9 +222,9 @@ int RunExploreExperiment(CliArgs& cli) {
 
     if (json_path) {
       std::vector<std::string> rows;
-      for (int r = 0; r < runs; ++r) {
-        rows.push_back(RowJson(full_rows[static_cast<std::size_t>(r)]));
-        rows.push_back(RowJson(skip_rows[static_cast<std::size_t>(r)]));
+      for (std::size_t r = 0; r < full_rows.size(); ++r) {
+        rows.push_back(RowJson(full_rows[r]));
+        rows.push_back(RowJson(skip_rows[r]));
       }
       WriteJsonFile(*json_path,
                     JsonObject({{"experiment", JsonString("explore")},

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <unordered_set>
 
+#include "pslam/grid/cell_key.hpp"
 #include "pslam/predict/similarity.hpp"
 
 namespace pslam {
@@ -65,10 +66,7 @@ double BuiltMapSimilarity(const OccupancyGrid& built, const OccupancyGrid& refer
 double MappedOrPredictedFraction(const OccupancyGrid& reference, const OccupancyGrid& built,
                                  const std::vector<HypothesisCell>& predicted) {
   std::unordered_set<std::uint64_t> predicted_cells;
-  const auto key = [](const Eigen::Vector2i& c) {
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.x())) << 32) | static_cast<std::uint32_t>(c.y());
-  };
-  for (const HypothesisCell& c : predicted) predicted_cells.insert(key(c.cell));
+  for (const HypothesisCell& c : predicted) predicted_cells.insert(CellKey(c.cell));
   const CellBox box = reference.KnownBounds();
   std::size_t free = 0, accounted = 0;
   for (int y = box.min.y(); y <= box.max.y(); ++y) {
@@ -76,7 +74,7 @@ double MappedOrPredictedFraction(const OccupancyGrid& reference, const Occupancy
       if (!reference.IsKnown(x, y) || reference.Probability(x, y) >= 0.5f) continue;
       ++free;
       const Eigen::Vector2i in_built = built.WorldToCell(reference.CellCenter({x, y}));
-      accounted += built.IsKnown(in_built.x(), in_built.y()) || predicted_cells.count(key({x, y})) > 0;
+      accounted += built.IsKnown(in_built.x(), in_built.y()) || predicted_cells.count(CellKey(x, y)) > 0;
     }
   }
   return free > 0 ? static_cast<double>(accounted) / static_cast<double>(free) : 0.0;

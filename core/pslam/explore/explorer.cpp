@@ -7,12 +7,10 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "pslam/grid/cell_key.hpp"
+
 namespace pslam {
 namespace {
-
-std::uint64_t Key(const Eigen::Vector2i& c) {
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.x())) << 32) | static_cast<std::uint32_t>(c.y());
-}
 
 // Whether an occupied cell of the map or a predicted wall lies within 'cells' (Chebyshev) of c;
 // with 0, whether c itself is one.
@@ -43,15 +41,15 @@ std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierC
   std::priority_queue<Entry, std::vector<Entry>, decltype(later)> open(later);
   for (const auto& c : cluster.cells) open.push({0.0, c});
   std::unordered_set<std::uint64_t> sources;
-  for (const auto& c : cluster.cells) sources.insert(Key(c));
+  for (const auto& c : cluster.cells) sources.insert(CellKey(c));
 
   int unknown = 0, hit = 0;
   while (!open.empty()) {
     const auto [d, c] = open.top();
     open.pop();
-    const bool is_source = sources.count(Key(c)) > 0;
+    const bool is_source = sources.count(CellKey(c)) > 0;
     if (!is_source) {
-      const auto it = distance.find(Key(c));
+      const auto it = distance.find(CellKey(c));
       if (it != distance.end() && it->second < d) continue;  // stale
       ++unknown;
       if (covered && covered(c)) ++hit;
@@ -64,7 +62,7 @@ std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierC
         const Eigen::Vector2i n = c + Eigen::Vector2i(dx, dy);
         const double nd = d + ((dx != 0 && dy != 0) ? std::sqrt(2.0) : 1.0);
         if (nd > max_cells || Classify(grid, n, classes) != CellClass::kUnknown) continue;
-        auto [it, inserted] = distance.try_emplace(Key(n), nd);
+        auto [it, inserted] = distance.try_emplace(CellKey(n), nd);
         if (!inserted) {
           if (it->second <= nd) continue;
           it->second = nd;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include "pslam/grid/cell_key.hpp"
+
 namespace pslam {
 namespace {
 struct EvidenceTable {
@@ -28,8 +30,7 @@ OccupancyField::OccupancyField(const OccupancyGrid& grid, int level)
 float OccupancyField::Coarse(int i, int j) const {
   if (level_ == 0) return CellEvidence(grid_.At(i, j));
   // A match reads the same few hundred pooled cells over and over: remember them.
-  const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) | static_cast<std::uint32_t>(j);
-  const auto [it, inserted] = pooled_.try_emplace(key, 0.0f);
+  const auto [it, inserted] = pooled_.try_emplace(CellKey(i, j), 0.0f);
   if (!inserted) return it->second;
   const int n = 1 << level_;
   float best = 0.0f;
