@@ -169,7 +169,7 @@ void SessionEngine::Process(const InputRecord& input, std::optional<SteadyTime> 
   if (input.seq <= processed_seq_.load()) return;  // already in the filter
   const SteadyTime start = SteadyNow();
   PipelineStep step = pipeline_->Add(input);
-  if (step.scan) last_scan_ = std::make_shared<const LaserScan>(ToLaserScan(input, laser_));
+  if (step.scan) last_scan_ = step.scan;
   const double step_ms = SecondsSince(start) * 1e3;
   if (step.scan) {
     online_.push_back({static_cast<std::int64_t>(online_.size()), input.seq, input.t, input.stamp, step.filter.pose.x,

@@ -91,9 +91,9 @@ PipelineStep SlamPipeline::Add(const InputRecord& input) {
   // Odometry messages are stored for replay; the filter takes the odometry that each scan carries
   // (interpolated by the agent to the scan time).
   if (input.kind != InputKind::kScan) return step;
-  step.scan = true;
+  step.scan = std::make_shared<const LaserScan>(ToLaserScan(input, laser_));
   const std::size_t known = slam_.hypotheses().size();
-  PSlamStep s = slam_.AddScan(ToLaserScan(input, laser_));
+  PSlamStep s = slam_.AddScan(*step.scan);
   step.filter = s.filter;
   // New hypotheses (possibly taken from the predictor during this scan) and changed ones.
   for (std::size_t i = known; i < slam_.hypotheses().size(); ++i) s.changed_hypotheses.push_back(slam_.hypotheses()[i].id);

@@ -23,7 +23,7 @@ namespace pslam::server {
 
 // What one input changed.
 struct PipelineStep {
-  bool scan = false;                              // the input was a scan (odometry only updates state)
+  std::shared_ptr<const LaserScan> scan;          // the scan the filter took; null for odometry
   RbpfStep filter;                                // for scans
   std::vector<HypothesisRecord> hypotheses_changed;  // added or updated by this input
   std::vector<std::int64_t> hypotheses_removed;
