@@ -142,6 +142,39 @@ TEST_F(MazeRunTest, SameSeedSameRun) {
   EXPECT_DOUBLE_EQ(pa.y, pb.y);
 }
 
+// Paths planned for a robot of 5 cm radius hug the walls the real 25 cm disc cannot pass, and with
+// the obstacle stop off nothing saves it: contacts are certain. A contact must make the robot back
+// off and try again; only a second one soon after gives the target up, and exploring goes on.
+TEST_F(MazeRunTest, AContactBacksOffAndOnlyARepeatedOneGivesTheTargetUp) {
+  ExplorationOptions options = ShortRunOptions(ExploreMode::kFullCoverage, 90.0);
+  options.slam.predict = false;
+  options.explore.planner.robot_radius = 0.05;
+  options.explore.planner.inflation_margin = 0.0;
+  options.explore.planner.wall_cost_weight = 0.0;
+  options.obstacle_stop.stop_distance = 0.0;
+  ExplorationRun run(world_, start_, options);
+  int contacts = 0, backing_steps = 0;
+  std::optional<double> backing_since;
+  while (!run.done()) {
+    const ExplorationStep step = run.Step();
+    if (step.collided) {
+      ++contacts;
+      backing_since = run.time();
+    }
+    if (backing_since && run.time() - *backing_since < options.back_off_s - 0.2) {
+      ASSERT_LT(step.command.linear, 0.0) << "t = " << run.time();
+      EXPECT_EQ(step.command.angular, 0.0);
+      ++backing_steps;
+    }
+  }
+  ASSERT_GE(contacts, 2);
+  EXPECT_GT(backing_steps, 0);
+  const ExplorationSummary summary = run.Summary();
+  EXPECT_GE(summary.given_up, 1);
+  EXPECT_LT(summary.given_up, contacts);  // a first contact gives nothing up
+  EXPECT_EQ(run.state(), ExplorationState::kTimeLimit);  // nor ends exploring early
+}
+
 TEST_F(MazeRunTest, PlainRbpfMakesNoPredictionsAndStopsAtTheTimeLimit) {
   ExplorationOptions options = ShortRunOptions(ExploreMode::kFullCoverage, 20.0);
   options.slam.predict = false;

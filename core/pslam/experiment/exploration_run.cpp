@@ -142,6 +142,13 @@ bool ExplorationRun::Plan(const Pose2D& pose) {
     blocked_plans_ = 0;
     const bool new_target = !target_ || target_->cell != decision.target->cell;
     target_ = decision.target;
+    if (time() < careful_until_) {
+      FollowerOptions careful = options_.follower;
+      careful.lookahead_distance = std::min(careful.lookahead_distance, options_.careful_lookahead);
+      follower_ = PathFollower(careful);
+    } else {
+      follower_ = PathFollower(options_.follower);
+    }
     follower_.SetPath(target_->path);
     next_plan_time_ = time() + options_.replan_period_s;
     stopped_since_ = -1.0;
@@ -160,15 +167,27 @@ bool ExplorationRun::Plan(const Pose2D& pose) {
 
 DriveCommand ExplorationRun::Steer(ExplorationStep& out) {
   const double now = time();
+  const DriveCommand back_off{-options_.back_off_speed, 0.0};
+  if (out.collided) {
+    if (now < careful_until_) {
+      GiveUpTarget();
+    } else {
+      target_.reset();  // chosen again after the back-off, most likely, and followed more tightly
+      follower_.SetPath({});
+    }
+    careful_until_ = now + options_.careful_s;
+    // Backing into something as well: stop backing and plan from here.
+    const bool was_backing_off = now < back_off_until_;
+    back_off_until_ = was_backing_off ? now : now + options_.back_off_s;
+    if (!was_backing_off) return back_off;
+  }
+  if (now < back_off_until_) return back_off;
   if (now < look_around_until_) return {0.0, 0.5};  // turn in place so the laser sees around
   const Pose2D pose = CurrentPoseEstimate();
   FollowerOutput follow = follower_.Update(pose);
   const bool held = stopped_since_ >= 0.0 && now - stopped_since_ > options_.stuck_timeout_s;
-  const bool give_up = target_ && (out.collided || held);
-  if (give_up) {
-    blacklist_.push_back(target_->position);
-    ++summary_.given_up;
-  }
+  const bool give_up = target_ && held;
+  if (give_up) GiveUpTarget();
   const bool skip_mode = options_.explore.mode == ExploreMode::kSkipPredicted;
   const bool replan = !target_ || follow.goal_reached || give_up || now >= next_plan_time_ ||
                       (skip_mode && hypothesis_arrived_);
@@ -185,6 +204,14 @@ DriveCommand ExplorationRun::Steer(ExplorationStep& out) {
     stopped_since_ = -1.0;
   }
   return command;
+}
+
+void ExplorationRun::GiveUpTarget() {
+  if (!target_) return;
+  blacklist_.push_back(target_->position);
+  ++summary_.given_up;
+  target_.reset();
+  follower_.SetPath({});
 }
 
 ExplorationSummary ExplorationRun::Summary() const {

@@ -41,6 +41,15 @@ struct ExplorationOptions {
   double time_limit_s = 3600.0;       // simulated seconds; the run stops there, unfinished
   double replan_period_s = 8.0;       // fold newly mapped space into the route this often
   double stuck_timeout_s = 3.0;       // held by the obstacle stop this long: give the target up
+  // After a collision: reverse back_off_s at back_off_speed, plan again, and for careful_s follow
+  // paths with careful_lookahead. Pure pursuit cuts a corner by part of its lookahead, and at a
+  // 1 m door that cut is what touches the jamb. Only a collision within careful_s of another gives
+  // the target up; when every contact did, a robot pressed against a jamb gave up each target
+  // behind that door in turn, and the run ended as explored with most of the floor unseen.
+  double back_off_s = 1.5;
+  double back_off_speed = 0.1;        // m/s
+  double careful_s = 30.0;
+  double careful_lookahead = 0.25;    // m
   // Per planning, how often a target may be re-chosen because its own prediction covered it.
   int max_skip_rounds = 4;
   // Skip-predicted only: plan on P-SLAM's merged map (the paper's "virtual mapping", Sec. II-B)
@@ -97,7 +106,7 @@ struct ExplorationSummary {
   int scans = 0;
   int plans = 0;                       // calls to the explorer
   int targets = 0;                     // distinct targets chosen (each is a P-SLAM target T_k)
-  int given_up = 0;                    // targets blacklisted after a collision or a long stop
+  int given_up = 0;                    // targets blacklisted after a repeated collision or a long stop
   int skipped_clusters = 0;            // frontier clusters skipped as covered at the last plan
   int hypotheses = 0;                  // accepted
   PSlamStats slam;
@@ -149,6 +158,8 @@ class ExplorationRun {
   // Chooses the next target; returns false when there is none (state_ or look-around set).
   bool Plan(const Pose2D& pose);
   DriveCommand Steer(ExplorationStep& out);
+  // Blacklists the current target, if any, and drops its path.
+  void GiveUpTarget();
 
   ExplorationOptions options_;
   Simulator simulator_;
@@ -166,6 +177,8 @@ class ExplorationRun {
   double next_plan_time_ = 0.0;
   double stopped_since_ = -1.0;    // simulated time the obstacle stop began holding the robot
   double look_around_until_ = -1.0;
+  double back_off_until_ = -1.0;
+  double careful_until_ = -1.0;
   int blocked_plans_ = 0;
   bool hypothesis_arrived_ = false;  // since the last plan
 
