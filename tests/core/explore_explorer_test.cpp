@@ -81,8 +81,11 @@ TEST(ExploreExplorerTest, PredictedWallsStopTheCoveredFlood) {
     if (c.centroid.x() < 1.0) left = &c;
   }
   ASSERT_NE(left, nullptr);
-  const auto flooded = CoveredFraction(grid, *left, 2.0, CellClassOptions{}, covered);
-  const auto walled = CoveredFraction(grid, *left, 2.0, CellClassOptions{}, covered, wall);
+  ExploreRequest predictions;
+  predictions.covered = covered;
+  const auto flooded = CoveredFraction(grid, *left, predictions, 2.0);
+  predictions.predicted_wall = wall;
+  const auto walled = CoveredFraction(grid, *left, predictions, 2.0);
   ASSERT_TRUE(flooded && walled);
   EXPECT_LT(*flooded, 0.5);  // the flood runs on behind the wall
   EXPECT_GT(*walled, 0.9);   // only the corner around the room's outside is left uncovered
@@ -110,8 +113,11 @@ TEST(ExploreExplorerTest, NarrowGapsInAWallDoNotLetTheCoveredFloodThrough) {
   const std::vector<FrontierCluster> clusters = FindFrontierClusters(grid, FrontierOptions{});
   ASSERT_EQ(clusters.size(), 2u);
   const FrontierCluster& left = clusters[0].centroid.x() < 3.0 ? clusters[0] : clusters[1];
-  const auto leaking = CoveredFraction(grid, left, 2.0, CellClassOptions{}, covered, gappy_wall, 0);
-  const auto sealed = CoveredFraction(grid, left, 2.0, CellClassOptions{}, covered, gappy_wall, 2);
+  ExploreRequest predictions;
+  predictions.covered = covered;
+  predictions.predicted_wall = gappy_wall;
+  const auto leaking = CoveredFraction(grid, left, predictions, 2.0, 0);
+  const auto sealed = CoveredFraction(grid, left, predictions, 2.0, 2);
   ASSERT_TRUE(leaking && sealed);
   EXPECT_LT(*leaking, 0.8);  // through the gap the flood reaches 1.5 m of unpredicted space
   EXPECT_GT(*sealed, 0.9);
@@ -134,7 +140,9 @@ TEST(ExploreExplorerTest, PartlyCoveredClustersAreStillExplored) {
   const FrontierCluster& left = clusters[0].centroid.x() < 3.0 ? clusters[0] : clusters[1];
   // Cover only the unknown cells more than 1 m beyond the opening: about half of the 2 m reach.
   const CoveredPredicate far = [](const Eigen::Vector2i& c) { return c.x() < -20; };
-  const auto fraction = CoveredFraction(grid, left, 2.0, CellClassOptions{}, far);
+  ExploreRequest predictions;
+  predictions.covered = far;
+  const auto fraction = CoveredFraction(grid, left, predictions, 2.0);
   ASSERT_TRUE(fraction.has_value());
   EXPECT_GT(*fraction, 0.2);
   EXPECT_LT(*fraction, 0.8);
@@ -146,6 +154,38 @@ TEST(ExploreExplorerTest, PartlyCoveredClustersAreStillExplored) {
   const ExploreDecision decision = SelectNextTarget(grid, request, options);
   EXPECT_EQ(decision.skipped, 0);
   EXPECT_LT(decision.target->position.x(), 0.1);
+}
+
+TEST(ExploreExplorerTest, OnTheMergedMapAnUnknownGapBetweenPredictionsIsSkipped) {
+  // The merged map: beyond the left opening a hypothesis predicts 2 m of free space, which the
+  // merged map shows as free, all but a 30 cm x 30 cm gap it left unknown. The gap's rim is a
+  // frontier nearer than the right opening.
+  OccupancyGrid merged = RoomWithTwoOpenings();
+  const auto in_gap = [](const Eigen::Vector2i& c) { return c.x() >= -25 && c.x() < -19 && c.y() >= 37 && c.y() < 43; };
+  const auto in_prediction = [&](const Eigen::Vector2i& c) { return c.x() >= -40 && c.x() < 0 && !in_gap(c); };
+  for (int y = -1; y <= 80; ++y) {
+    for (int x = -41; x < 0; ++x) {
+      const Eigen::Vector2i c(x, y);
+      const bool wall = x == -41 || y < 0 || y >= 80;
+      if (wall) merged.MutableAt(x, y) = kOccupied;
+      if (!wall && in_prediction(c)) merged.MutableAt(x, y) = kFree;
+    }
+  }
+  ExploreOptions options;
+  options.mode = ExploreMode::kSkipPredicted;
+  ExploreRequest request = RobotAt(1.5, 2.0);
+  request.covered = in_prediction;
+  // Asked only about the merged map's unknown cells, the gap's frontier looks wholly unpredicted.
+  const ExploreDecision unaware = SelectNextTarget(merged, request, options);
+  ASSERT_FALSE(unaware.done());
+  EXPECT_EQ(unaware.skipped, 0);
+  EXPECT_LT(unaware.target->position.x(), -0.9);
+  // Its unexplored surroundings are the predicted cells around it: skipped.
+  request.predicted = in_prediction;
+  const ExploreDecision aware = SelectNextTarget(merged, request, options);
+  ASSERT_FALSE(aware.done());
+  EXPECT_EQ(aware.skipped, 1);
+  EXPECT_GT(aware.target->position.x(), 5.9);
 }
 
 TEST(ExploreExplorerTest, BlacklistedTargetsAreLeftOut) {

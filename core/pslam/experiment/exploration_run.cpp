@@ -122,6 +122,7 @@ bool ExplorationRun::Plan(const Pose2D& pose) {
         return slam_.IsCovered(cell);
       };
       request.predicted_wall = [this](const Eigen::Vector2i& cell) { return slam_.IsPredictedWall(cell); };
+      request.predicted = [this](const Eigen::Vector2i& cell) { return slam_.IsCovered(cell); };
     }
     const ExploreDecision decision =
         skip && options_.plan_on_merged_map ? SelectNextTarget(slam_.MergedMap(), request, options_.explore)

@@ -28,12 +28,14 @@ bool NearWall(const OccupancyGrid& grid, const Eigen::Vector2i& c, int cells, co
 
 }  // namespace
 
-std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierCluster& cluster, double radius,
-                                      const CellClassOptions& classes, const CoveredPredicate& covered,
-                                      const CoveredPredicate& predicted_wall, int seal_cells) {
-  // Multi-source Dijkstra (8-connected step lengths) from the cluster's cells into the unknown
+std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierCluster& cluster,
+                                      const ExploreRequest& request, double radius, int seal_cells,
+                                      const CellClassOptions& classes) {
+  // Multi-source Dijkstra (8-connected step lengths) from the cluster's cells into the unexplored
   // region behind them, out to 'radius': the space the robot would reveal by going there. Bounded
-  // by the number of unknown cells within the radius.
+  // by the number of cells within the radius.
+  const CoveredPredicate& covered = request.covered;
+  const CoveredPredicate& predicted = request.predicted;
   const double max_cells = radius / grid.resolution();
   std::unordered_map<std::uint64_t, double> distance;
   using Entry = std::pair<double, Eigen::Vector2i>;
@@ -54,14 +56,15 @@ std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierC
       ++unknown;
       if (covered && covered(c)) ++hit;
       // A predicted wall (or a cell next to a wall): the space behind is another's.
-      if (NearWall(grid, c, seal_cells, classes, predicted_wall)) continue;
+      if (NearWall(grid, c, seal_cells, classes, request.predicted_wall)) continue;
     }
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) {
         if (dx == 0 && dy == 0) continue;
         const Eigen::Vector2i n = c + Eigen::Vector2i(dx, dy);
         const double nd = d + ((dx != 0 && dy != 0) ? std::sqrt(2.0) : 1.0);
-        if (nd > max_cells || Classify(grid, n, classes) != CellClass::kUnknown) continue;
+        if (nd > max_cells) continue;
+        if (Classify(grid, n, classes) != CellClass::kUnknown && !(predicted && predicted(n))) continue;
         auto [it, inserted] = distance.try_emplace(CellKey(n), nd);
         if (!inserted) {
           if (it->second <= nd) continue;
@@ -118,9 +121,8 @@ ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest
       continue;
     }
     if (options.mode == ExploreMode::kSkipPredicted && request.covered) {
-      const auto fraction =
-          CoveredFraction(grid, cluster, options.skip_radius, options.frontier.classes, request.covered,
-                          request.predicted_wall, options.wall_seal_cells);
+      const auto fraction = CoveredFraction(grid, cluster, request, options.skip_radius, options.wall_seal_cells,
+                                            options.frontier.classes);
       if (fraction && *fraction >= options.skip_covered_fraction) {
         ++decision.skipped;
         continue;

@@ -53,6 +53,12 @@ struct ExploreRequest {
   // it; it must not count against the frontier. Empty: no walls.
   CoveredPredicate predicted_wall;
   std::vector<Eigen::Vector2d> blacklist;  // goals the caller gave up on (e.g. blocked on the way)
+  // Cells an accepted hypothesis predicts and the built map has not observed (kSkipPredicted).
+  // When the explorer plans on the map with the predictions merged in, they look mapped, yet they
+  // are the frontier's unexplored surroundings as much as the unknown cells are: the covered
+  // fraction counts them, so that an unknown gap between predictions is skipped, not visited.
+  // Empty: the planning map's unknown cells are all there is.
+  CoveredPredicate predicted;
 };
 
 struct ExploreTarget {
@@ -81,12 +87,14 @@ struct ExploreDecision {
 ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest& request,
                                  const ExploreOptions& options = {});
 
-// Visible for testing: the fraction of the unknown cells within 'radius' of the cluster, reached
-// from its cells through unknown cells, for which 'covered' holds; nullopt when there are none.
-// Cells for which 'predicted_wall' holds, and cells within 'seal_cells' of such a cell or of an
-// occupied one, are counted but not passed through (ExploreOptions::wall_seal_cells).
-std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierCluster& cluster, double radius,
-                                      const CellClassOptions& classes, const CoveredPredicate& covered,
-                                      const CoveredPredicate& predicted_wall = {}, int seal_cells = 0);
+// Visible for testing: the fraction of a frontier's unexplored surroundings that predictions
+// cover. The cells within 'radius' of the cluster, reached from its cells through unknown cells
+// and through request.predicted ones, are counted, and those for which request.covered holds are
+// hits; nullopt when none are reached. Cells for which request.predicted_wall holds, and cells
+// within 'seal_cells' of such a cell or of an occupied one, are counted but not passed through
+// (ExploreOptions::wall_seal_cells).
+std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierCluster& cluster,
+                                      const ExploreRequest& request, double radius, int seal_cells = 0,
+                                      const CellClassOptions& classes = {});
 
 }  // namespace pslam
