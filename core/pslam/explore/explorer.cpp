@@ -45,7 +45,7 @@ std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierC
   std::unordered_set<std::uint64_t> sources;
   for (const auto& c : cluster.cells) sources.insert(CellKey(c));
 
-  int unknown = 0, hit = 0;
+  int unexplored = 0, hit = 0;
   while (!open.empty()) {
     const auto [d, c] = open.top();
     open.pop();
@@ -53,7 +53,7 @@ std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierC
     if (!is_source) {
       const auto it = distance.find(CellKey(c));
       if (it != distance.end() && it->second < d) continue;  // stale
-      ++unknown;
+      ++unexplored;
       if (covered && covered(c)) ++hit;
       // A predicted wall (or a cell next to a wall): the space behind is another's.
       if (NearWall(grid, c, seal_cells, classes, request.predicted_wall)) continue;
@@ -64,7 +64,8 @@ std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierC
         const Eigen::Vector2i n = c + Eigen::Vector2i(dx, dy);
         const double nd = d + ((dx != 0 && dy != 0) ? std::sqrt(2.0) : 1.0);
         if (nd > max_cells) continue;
-        if (Classify(grid, n, classes) != CellClass::kUnknown && !(predicted && predicted(n))) continue;
+        const bool unexplored_cell = Classify(grid, n, classes) == CellClass::kUnknown || (predicted && predicted(n));
+        if (!unexplored_cell) continue;
         auto [it, inserted] = distance.try_emplace(CellKey(n), nd);
         if (!inserted) {
           if (it->second <= nd) continue;
@@ -74,8 +75,8 @@ std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierC
       }
     }
   }
-  if (unknown == 0) return std::nullopt;
-  return static_cast<double>(hit) / unknown;
+  if (unexplored == 0) return std::nullopt;
+  return static_cast<double>(hit) / unexplored;
 }
 
 ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest& request,
