@@ -159,7 +159,9 @@ TEST_F(MazeRunTest, AContactBacksOffAndOnlyARepeatedOneGivesTheTargetUp) {
     const ExplorationStep step = run.Step();
     if (step.collided) {
       ++contacts;
-      backing_since = run.time();
+      // A contact while backing off ends the back-off: the robot plans from where it stands.
+      const bool backing = backing_since && run.time() - *backing_since < options.back_off_s;
+      backing_since = backing ? std::nullopt : std::optional<double>(run.time());
     }
     if (backing_since && run.time() - *backing_since < options.back_off_s - 0.2) {
       ASSERT_LT(step.command.linear, 0.0) << "t = " << run.time();
