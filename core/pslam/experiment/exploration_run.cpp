@@ -143,13 +143,11 @@ bool ExplorationRun::Plan(const Pose2D& pose) {
     blocked_plans_ = 0;
     const bool new_target = !target_ || target_->cell != decision.target->cell;
     target_ = decision.target;
+    FollowerOptions follow = options_.follower;
     if (time() < careful_until_) {
-      FollowerOptions careful = options_.follower;
-      careful.lookahead_distance = std::min(careful.lookahead_distance, options_.careful_lookahead);
-      follower_ = PathFollower(careful);
-    } else {
-      follower_ = PathFollower(options_.follower);
+      follow.lookahead_distance = std::min(follow.lookahead_distance, options_.careful_lookahead);
     }
+    follower_ = PathFollower(follow);
     follower_.SetPath(target_->path);
     next_plan_time_ = time() + options_.replan_period_s;
     stopped_since_ = -1.0;
@@ -170,12 +168,10 @@ DriveCommand ExplorationRun::Steer(ExplorationStep& out) {
   const double now = time();
   const DriveCommand back_off{-options_.back_off_speed, 0.0};
   if (out.collided) {
-    if (now < careful_until_) {
-      GiveUpTarget();
-    } else {
-      target_.reset();  // chosen again after the back-off, most likely, and followed more tightly
-      follower_.SetPath({});
-    }
+    // A first contact drops the target without blacklisting it: after the back-off it is most
+    // likely chosen again, and followed more tightly.
+    if (now < careful_until_) GiveUpTarget();
+    DropTarget();
     careful_until_ = now + options_.careful_s;
     // Backing into something as well: stop backing and plan from here.
     const bool was_backing_off = now < back_off_until_;
@@ -211,6 +207,10 @@ void ExplorationRun::GiveUpTarget() {
   if (!target_) return;
   blacklist_.push_back(target_->position);
   ++summary_.given_up;
+  DropTarget();
+}
+
+void ExplorationRun::DropTarget() {
   target_.reset();
   follower_.SetPath({});
 }

@@ -158,8 +158,10 @@ class ExplorationRun {
   // Chooses the next target; returns false when there is none (state_ or look-around set).
   bool Plan(const Pose2D& pose);
   DriveCommand Steer(ExplorationStep& out);
-  // Blacklists the current target, if any, and drops its path.
+  // Blacklists the current target, if any, and drops it.
   void GiveUpTarget();
+  // Forgets the current target and its path, so that the next step plans.
+  void DropTarget();
 
   ExplorationOptions options_;
   Simulator simulator_;

@@ -34,8 +34,6 @@ std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierC
   // Multi-source Dijkstra (8-connected step lengths) from the cluster's cells into the unexplored
   // region behind them, out to 'radius': the space the robot would reveal by going there. Bounded
   // by the number of cells within the radius.
-  const CoveredPredicate& covered = request.covered;
-  const CoveredPredicate& predicted = request.predicted;
   const double max_cells = radius / grid.resolution();
   std::unordered_map<std::uint64_t, double> distance;
   using Entry = std::pair<double, Eigen::Vector2i>;
@@ -54,7 +52,7 @@ std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierC
       const auto it = distance.find(CellKey(c));
       if (it != distance.end() && it->second < d) continue;  // stale
       ++unexplored;
-      if (covered && covered(c)) ++hit;
+      if (request.covered && request.covered(c)) ++hit;
       // A predicted wall (or a cell next to a wall): the space behind is another's.
       if (NearWall(grid, c, seal_cells, classes, request.predicted_wall)) continue;
     }
@@ -64,7 +62,8 @@ std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierC
         const Eigen::Vector2i n = c + Eigen::Vector2i(dx, dy);
         const double nd = d + ((dx != 0 && dy != 0) ? std::sqrt(2.0) : 1.0);
         if (nd > max_cells) continue;
-        const bool unexplored_cell = Classify(grid, n, classes) == CellClass::kUnknown || (predicted && predicted(n));
+        const bool unexplored_cell =
+            Classify(grid, n, classes) == CellClass::kUnknown || (request.predicted && request.predicted(n));
         if (!unexplored_cell) continue;
         auto [it, inserted] = distance.try_emplace(CellKey(n), nd);
         if (!inserted) {
