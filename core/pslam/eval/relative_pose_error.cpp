@@ -5,7 +5,6 @@
 #include <fstream>
 #include <numbers>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 #include <unordered_map>
 #include <utility>
@@ -63,25 +62,10 @@ MeanStd Summarize(const std::vector<double>& values) {
 
 std::vector<Relation> ReadRelations(std::istream& in, const std::string& name) {
   std::vector<Relation> relations;
-  std::string line;
-  for (int line_no = 1; std::getline(in, line); ++line_no) {
-    std::istringstream fields(line);
-    std::vector<std::string> f;
-    for (std::string s; fields >> s;) f.push_back(s);
-    if (f.empty() || f[0].front() == '#') continue;
-    const std::string where = name + ":" + std::to_string(line_no) + ": ";
-    if (f.size() != 8) {
-      throw std::runtime_error(where + "expected 't1 t2 x y z roll pitch yaw', got " + std::to_string(f.size()) +
-                               " fields");
-    }
-    double v[8];
-    for (int i = 0; i < 8; ++i) {
-      const auto parsed = ParseStampSeconds(f[i]);
-      if (!parsed) throw std::runtime_error(where + "not a number: '" + f[i] + "'");
-      v[i] = *parsed;
-    }
-    relations.push_back({f[0], f[1], Pose2D(v[2], v[3], v[7])});
-  }
+  ReadNumericRecords(in, name, 8, "t1 t2 x y z roll pitch yaw",
+                     [&relations](const std::vector<std::string>& text, const std::vector<double>& v) {
+                       relations.push_back({text[0], text[1], Pose2D(v[2], v[3], v[7])});
+                     });
   return relations;
 }
 

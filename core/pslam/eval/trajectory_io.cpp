@@ -17,6 +17,31 @@ std::optional<double> ParseStampSeconds(std::string_view text) {
   return v;
 }
 
+void ReadNumericRecords(std::istream& in, const std::string& name, std::size_t count, const char* layout,
+                        const std::function<void(const std::vector<std::string>& text,
+                                                 const std::vector<double>& values)>& on_record) {
+  std::string line;
+  std::vector<std::string> text;
+  std::vector<double> values;
+  for (int line_no = 1; std::getline(in, line); ++line_no) {
+    std::istringstream fields(line);
+    text.clear();
+    for (std::string s; fields >> s;) text.push_back(s);
+    if (text.empty() || text[0].front() == '#') continue;
+    const std::string where = name + ":" + std::to_string(line_no) + ": ";
+    if (text.size() != count) {
+      throw std::runtime_error(where + "expected '" + layout + "', got " + std::to_string(text.size()) + " fields");
+    }
+    values.clear();
+    for (const std::string& field : text) {
+      const auto parsed = ParseStampSeconds(field);
+      if (!parsed) throw std::runtime_error(where + "not a number: '" + field + "'");
+      values.push_back(*parsed);
+    }
+    on_record(text, values);
+  }
+}
+
 void WriteTrajectory(std::ostream& out, const std::vector<StampedPose>& poses) {
   char line[256];
   for (const StampedPose& p : poses) {
@@ -37,24 +62,10 @@ void WriteTrajectory(const std::string& path, const std::vector<StampedPose>& po
 
 std::vector<StampedPose> ReadTrajectory(std::istream& in, const std::string& name) {
   std::vector<StampedPose> poses;
-  std::string line;
-  for (int line_no = 1; std::getline(in, line); ++line_no) {
-    std::istringstream fields(line);
-    std::vector<std::string> f;
-    for (std::string s; fields >> s;) f.push_back(s);
-    if (f.empty() || f[0].front() == '#') continue;
-    const std::string where = name + ":" + std::to_string(line_no) + ": ";
-    if (f.size() != 4) {
-      throw std::runtime_error(where + "expected 'timestamp x y theta', got " + std::to_string(f.size()) + " fields");
-    }
-    double v[4];
-    for (int i = 0; i < 4; ++i) {
-      const auto parsed = ParseStampSeconds(f[i]);
-      if (!parsed) throw std::runtime_error(where + "not a number: '" + f[i] + "'");
-      v[i] = *parsed;
-    }
-    poses.push_back({f[0], v[0], Pose2D(v[1], v[2], v[3])});
-  }
+  ReadNumericRecords(in, name, 4, "timestamp x y theta",
+                     [&poses](const std::vector<std::string>& text, const std::vector<double>& v) {
+                       poses.push_back({text[0], v[0], Pose2D(v[1], v[2], v[3])});
+                     });
   return poses;
 }
 

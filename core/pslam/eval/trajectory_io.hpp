@@ -2,6 +2,7 @@
 // Trajectory files: one pose per line, "timestamp x y theta" (metres, radians). The timestamp text
 // is kept verbatim, because benchmark relations (Kümmerle et al. 2009) name scans by that exact
 // text ("976052857.337530"), and a double cannot carry it back unchanged.
+#include <functional>
 #include <iosfwd>
 #include <optional>
 #include <string>
@@ -20,6 +21,14 @@ struct StampedPose {
 
 // Seconds from a decimal timestamp text; nullopt unless the whole text is a finite number.
 std::optional<double> ParseStampSeconds(std::string_view text);
+
+// Reads text records of numbers, one a line; blank lines and lines starting with '#' are skipped.
+// Each record must have exactly 'count' fields, all numbers (ParseStampSeconds); 'layout' names
+// them for the error message. on_record gets the field texts and their values. Throws
+// std::runtime_error with "name:line: ..." on any malformed line.
+void ReadNumericRecords(std::istream& in, const std::string& name, std::size_t count, const char* layout,
+                        const std::function<void(const std::vector<std::string>& text,
+                                                 const std::vector<double>& values)>& on_record);
 
 // Writes one line per pose: the stamp text (or 'time' with %.6f when the stamp is empty), then
 // x y theta with %.6f. Throws std::runtime_error naming the file if it cannot be written.
