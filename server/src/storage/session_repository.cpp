@@ -37,6 +37,23 @@ struct Where {
   }
 };
 
+// One page of the rows of 'table' that match 'where', in 'order', read by 'read'; returns how many
+// rows match in all.
+template <typename Row, typename Reader>
+std::int64_t SelectPage(Database& db, const std::string& table, const char* columns, const Where& where,
+                        const char* order, int limit, int offset, Reader read, std::vector<Row>& rows) {
+  Statement count = db.Prepare("SELECT COUNT(*) FROM " + table + where.sql);
+  where.BindTo(count);
+  count.Step();
+  const std::int64_t total = count.Int64(0);
+  Statement s = db.Prepare(std::string("SELECT ") + columns + " FROM " + table + where.sql + " ORDER BY " + order +
+                           " LIMIT ? OFFSET ?");
+  const int next = where.BindTo(s);
+  s.Bind(next, limit).Bind(next + 1, offset);
+  while (s.Step()) rows.push_back(read(s));
+  return total;
+}
+
 // LIKE with the user's text matched literally: % and _ in it are escaped.
 std::string LikeContains(const std::string& text) {
   std::string out = "%";
@@ -165,15 +182,8 @@ SessionPage SessionRepository::ListSessions(const SessionFilter& filter) {
   if (filter.created_after) where.Add("created_at >= ?", *filter.created_after);
   if (filter.created_before) where.Add("created_at < ?", *filter.created_before);
   SessionPage page;
-  Statement count = db_.Prepare("SELECT COUNT(*) FROM sessions" + where.sql);
-  where.BindTo(count);
-  count.Step();
-  page.total = count.Int64(0);
-  Statement s = db_.Prepare(std::string("SELECT ") + kSessionColumns + " FROM sessions" + where.sql +
-                            " ORDER BY created_at DESC, id LIMIT ? OFFSET ?");
-  const int next = where.BindTo(s);
-  s.Bind(next, filter.limit).Bind(next + 1, filter.offset);
-  while (s.Step()) page.sessions.push_back(ReadSession(s));
+  page.total = SelectPage(db_, "sessions", kSessionColumns, where, "created_at DESC, id", filter.limit, filter.offset,
+                          ReadSession, page.sessions);
   return page;
 }
 
@@ -385,15 +395,8 @@ HypothesisPage SessionRepository::QueryHypotheses(const std::string& session_id,
     where.AddMany("max_x >= ? AND min_x <= ? AND max_y >= ? AND min_y <= ?", {b[0], b[2], b[1], b[3]});
   }
   HypothesisPage page;
-  Statement count = db_.Prepare("SELECT COUNT(*) FROM hypotheses" + where.sql);
-  where.BindTo(count);
-  count.Step();
-  page.total = count.Int64(0);
-  Statement s = db_.Prepare(std::string("SELECT ") + kHypothesisColumns + " FROM hypotheses" + where.sql +
-                            " ORDER BY id LIMIT ? OFFSET ?");
-  const int next = where.BindTo(s);
-  s.Bind(next, f.limit).Bind(next + 1, f.offset);
-  while (s.Step()) page.hypotheses.push_back(ReadHypothesis(s));
+  page.total = SelectPage(db_, "hypotheses", kHypothesisColumns, where, "id", f.limit, f.offset, ReadHypothesis,
+                          page.hypotheses);
   return page;
 }
 
