@@ -147,32 +147,31 @@ PredictionUse Rbpf::UpdateParticles(const Pose2D& motion, const std::vector<Eige
   return use;
 }
 
-void Rbpf::AddHypothesis(const std::vector<PredictedCell>& cells) {
+void Rbpf::ForEachCellInParticles(
+    const std::vector<PredictedCell>& cells,
+    const std::function<void(Particle&, const Eigen::Vector2i&, const PredictedCell&)>& visit) {
   if (cells.empty() || particles_.empty()) return;
-  constexpr int kOccupied = 3000, kFree = -2000;  // milli log-odds: p = 0.95 and 0.12
   const Pose2D best_inverse = best().pose.inverse();
   pool_.ParallelFor(static_cast<int>(particles_.size()), [&](int i) {
     Particle& p = particles_[static_cast<std::size_t>(i)];
     const Pose2D to_particle = p.pose * best_inverse;
-    for (const PredictedCell& c : cells) {
-      const Eigen::Vector2i cell = p.map.WorldToCell(to_particle * p.map.CellCenter(c.cell));
-      if (p.map.IsKnown(cell.x(), cell.y())) continue;
-      p.hypothesis.MutableAt(cell.x(), cell.y()) = static_cast<OccupancyGrid::Cell>(c.occupied ? kOccupied : kFree);
-    }
+    for (const PredictedCell& c : cells) visit(p, p.map.WorldToCell(to_particle * p.map.CellCenter(c.cell)), c);
+  });
+}
+
+void Rbpf::AddHypothesis(const std::vector<PredictedCell>& cells) {
+  if (cells.empty() || particles_.empty()) return;
+  constexpr int kOccupied = 3000, kFree = -2000;  // milli log-odds: p = 0.95 and 0.12
+  ForEachCellInParticles(cells, [](Particle& p, const Eigen::Vector2i& cell, const PredictedCell& c) {
+    if (p.map.IsKnown(cell.x(), cell.y())) return;
+    p.hypothesis.MutableAt(cell.x(), cell.y()) = static_cast<OccupancyGrid::Cell>(c.occupied ? kOccupied : kFree);
   });
   has_hypotheses_ = true;
 }
 
 void Rbpf::RemoveHypothesis(const std::vector<PredictedCell>& cells) {
-  if (cells.empty() || particles_.empty()) return;
-  const Pose2D best_inverse = best().pose.inverse();
-  pool_.ParallelFor(static_cast<int>(particles_.size()), [&](int i) {
-    Particle& p = particles_[static_cast<std::size_t>(i)];
-    const Pose2D to_particle = p.pose * best_inverse;
-    for (const PredictedCell& c : cells) {
-      const Eigen::Vector2i cell = p.map.WorldToCell(to_particle * p.map.CellCenter(c.cell));
-      p.hypothesis.Forget(cell.x(), cell.y());
-    }
+  ForEachCellInParticles(cells, [](Particle& p, const Eigen::Vector2i& cell, const PredictedCell&) {
+    p.hypothesis.Forget(cell.x(), cell.y());
   });
 }
 

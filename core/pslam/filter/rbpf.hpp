@@ -4,6 +4,7 @@
 // matching stabilises the raw odometry, as the paper does); once the robot has moved far enough,
 // every particle samples the stabilised motion, refines it against its own map, is weighed by the
 // scan likelihood, and the set is resampled when N_eff falls low. Then the scan is inserted.
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -94,6 +95,10 @@ class Rbpf {
   PredictionUse UpdateParticles(const Pose2D& motion, const std::vector<Eigen::Vector2f>& hits);
   void SelectBest();
   void Resample(const std::vector<double>& weights);
+  // Calls visit(particle, cell) in parallel for every particle and every cell, the cell moved from
+  // the best particle's frame into that particle's (eq. 20).
+  void ForEachCellInParticles(const std::vector<PredictedCell>& cells,
+                              const std::function<void(Particle&, const Eigen::Vector2i&, const PredictedCell&)>& visit);
 
   RbpfOptions options_;
   ScanInserter inserter_;
