@@ -1,19 +1,11 @@
 // Exploration: frontier points, the current target and the planned path to it.
-import type { RobotStore } from '../state/robot_store';
-import type { DrawContext, Layer } from './layer';
+import type { DrawContext } from './layer';
+import { RobotStoreLayer } from './robot_store_layer';
 
-export class ExplorationLayer implements Layer {
+export class ExplorationLayer extends RobotStoreLayer {
   readonly id = 'exploration';
-  visible = true;
-  private drawn = -1;
-  constructor(private readonly store: RobotStore) {}
 
-  needsDraw(): boolean {
-    return this.drawn !== this.store.version;
-  }
-
-  draw({ ctx, camera, dpr }: DrawContext): void {
-    this.drawn = this.store.version;
+  protected paint({ ctx, camera, dpr }: DrawContext): void {
     ctx.save();
     ctx.fillStyle = 'rgba(0, 220, 255, 0.85)';
     const r = Math.max(2 * dpr, 0.04 * camera.scale);
@@ -53,6 +45,4 @@ export class ExplorationLayer implements Layer {
     }
     ctx.restore();
   }
-
-  dispose(): void {}
 }

@@ -1,20 +1,12 @@
 // The particle cloud: one short arrow per particle, brighter for heavier particles.
-import type { RobotStore } from '../state/robot_store';
-import type { DrawContext, Layer } from './layer';
+import type { DrawContext } from './layer';
+import { RobotStoreLayer } from './robot_store_layer';
 import { viridis } from './palette';
 
-export class ParticleLayer implements Layer {
+export class ParticleLayer extends RobotStoreLayer {
   readonly id = 'particles';
-  visible = true;
-  private drawn = -1;
-  constructor(private readonly store: RobotStore) {}
 
-  needsDraw(): boolean {
-    return this.drawn !== this.store.version;
-  }
-
-  draw({ ctx, camera, dpr }: DrawContext): void {
-    this.drawn = this.store.version;
+  protected paint({ ctx, camera, dpr }: DrawContext): void {
     const particles = this.store.particles;
     if (particles.length === 0) return;
     let maxW = 0;
@@ -38,6 +30,4 @@ export class ParticleLayer implements Layer {
     }
     ctx.restore();
   }
-
-  dispose(): void {}
 }

@@ -1,23 +1,15 @@
 // The robot: pose estimate and footprint (a Pioneer 3-DX body, 455 x 381 mm), drawn at least a
 // few pixels large so it stays visible when zoomed out.
-import type { RobotStore } from '../state/robot_store';
-import type { DrawContext, Layer } from './layer';
+import type { DrawContext } from './layer';
+import { RobotStoreLayer } from './robot_store_layer';
 
 export const kFootprintLengthMeters = 0.455;
 export const kFootprintWidthMeters = 0.381;
 
-export class RobotLayer implements Layer {
+export class RobotLayer extends RobotStoreLayer {
   readonly id = 'robot';
-  visible = true;
-  private drawn = -1;
-  constructor(private readonly store: RobotStore) {}
 
-  needsDraw(): boolean {
-    return this.drawn !== this.store.version;
-  }
-
-  draw({ ctx, camera, dpr }: DrawContext): void {
-    this.drawn = this.store.version;
+  protected paint({ ctx, camera, dpr }: DrawContext): void {
     const p = this.store.pose;
     if (!p) return;
     const x = camera.worldToScreenX(p.x), y = camera.worldToScreenY(p.y);
@@ -44,24 +36,14 @@ export class RobotLayer implements Layer {
     ctx.stroke();
     ctx.restore();
   }
-
-  dispose(): void {}
 }
 
 // The path the robot took (the trajectory estimate), decimated on screen: points closer than about
 // a pixel to the last drawn one are skipped, so a long run costs little per frame.
-export class TrajectoryLayer implements Layer {
+export class TrajectoryLayer extends RobotStoreLayer {
   readonly id = 'trajectory';
-  visible = true;
-  private drawn = -1;
-  constructor(private readonly store: RobotStore) {}
 
-  needsDraw(): boolean {
-    return this.drawn !== this.store.version;
-  }
-
-  draw({ ctx, camera, dpr }: DrawContext): void {
-    this.drawn = this.store.version;
+  protected paint({ ctx, camera, dpr }: DrawContext): void {
     const poses = this.store.trajectory.packed();
     const n = poses.length / 4;
     if (n < 2) return;
@@ -83,6 +65,4 @@ export class TrajectoryLayer implements Layer {
     ctx.stroke();
     ctx.restore();
   }
-
-  dispose(): void {}
 }

@@ -1,19 +1,12 @@
 // The current laser scan: its returns as points in the map frame, with faint rays from the sensor.
-import { scanEndpoints, type RobotStore } from '../state/robot_store';
-import type { DrawContext, Layer } from './layer';
+import { scanEndpoints } from '../state/robot_store';
+import type { DrawContext } from './layer';
+import { RobotStoreLayer } from './robot_store_layer';
 
-export class ScanLayer implements Layer {
+export class ScanLayer extends RobotStoreLayer {
   readonly id = 'scan';
-  visible = true;
-  private drawn = -1;
-  constructor(private readonly store: RobotStore) {}
 
-  needsDraw(): boolean {
-    return this.drawn !== this.store.version;
-  }
-
-  draw({ ctx, camera, dpr }: DrawContext): void {
-    this.drawn = this.store.version;
+  protected paint({ ctx, camera, dpr }: DrawContext): void {
     const scan = this.store.scan;
     if (!scan) return;
     const pts = scanEndpoints(scan);
@@ -34,6 +27,4 @@ export class ScanLayer implements Layer {
     }
     ctx.restore();
   }
-
-  dispose(): void {}
 }
