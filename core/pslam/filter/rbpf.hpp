@@ -95,8 +95,8 @@ class Rbpf {
   PredictionUse UpdateParticles(const Pose2D& motion, const std::vector<Eigen::Vector2f>& hits);
   void SelectBest();
   void Resample(const std::vector<double>& weights);
-  // Calls visit(particle, cell) in parallel for every particle and every cell, the cell moved from
-  // the best particle's frame into that particle's (eq. 20).
+  // Calls visit(particle, cell, predicted) in parallel for every particle and every predicted
+  // cell, 'cell' being that cell moved from the best particle's frame into the particle's (eq. 20).
   void ForEachCellInParticles(const std::vector<PredictedCell>& cells,
                               const std::function<void(Particle&, const Eigen::Vector2i&, const PredictedCell&)>& visit);
 
