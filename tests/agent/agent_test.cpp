@@ -111,7 +111,9 @@ TEST(AgentTest, FullSpoolOfALiveSourceIsCountedAndReported) {
     port = probe.Start();  // nobody listens there afterwards: the link is down throughout
   }
   AgentOptions o = Options(port, dir);
-  o.spool_max_mb = 0.1;  // ~140 scans
+  // ~100 records (scans and odometry, about 0.4 KiB each): full within about a second even when a
+  // loaded machine simulates only 40 scans a second.
+  o.spool_max_mb = 0.04;
   o.drive = false;
   SimSourceOptions sim;
   sim.rate = 0.0;  // flat out
