@@ -105,6 +105,41 @@ TEST(SickProtocolTest, ResynchronisesAfterCorruptTelegramAndLookAlikeBytes) {
   EXPECT_GE(parser.stats().bad_crc, 1u);
 }
 
+TEST(SickProtocolTest, TelegramsReadTogetherAreStampedAsTheyCameOverTheLine) {
+  std::vector<std::uint16_t> values(181, 1500);
+  const Bytes scan = EncodeReply(kScanReply, EncodeScanData(values, 1), 0x10);
+  Bytes two = scan;
+  two.insert(two.end(), scan.begin(), scan.end());
+  const double byte_seconds = LineByteSeconds(500000);
+  EXPECT_DOUBLE_EQ(byte_seconds, 20e-6);
+
+  // A busy reader got both in one read at t = 5: the first STX crossed the line 2 * size - 1
+  // bytes before the last byte, the second one size - 1 bytes before.
+  TelegramParser parser(true);
+  parser.Push(two, 5.0, byte_seconds);
+  const auto first = parser.Next();
+  const auto second = parser.Next();
+  ASSERT_TRUE(first && second);
+  const double size = static_cast<double>(scan.size());
+  EXPECT_NEAR(first->time, 5.0 - (2 * size - 1) * byte_seconds, 1e-12);
+  EXPECT_NEAR(second->time, 5.0 - (size - 1) * byte_seconds, 1e-12);
+  EXPECT_NEAR(second->time - first->time, size * byte_seconds, 1e-12);
+
+  // A pseudo-terminal or a USB adapter hands bytes over faster than the line could carry them:
+  // a third telegram read 1 ms later, whose start would be dated before the second one was
+  // through, is stamped when the line could first have carried it.
+  parser.Push(scan, 5.001, byte_seconds);
+  const auto third = parser.Next();
+  ASSERT_TRUE(third);
+  EXPECT_NEAR(third->time, second->time + size * byte_seconds, 1e-12);
+
+  // Without the line's byte time, both carry the read's time.
+  TelegramParser undated(true);
+  undated.Push(two, 5.0);
+  EXPECT_DOUBLE_EQ(undated.Next()->time, 5.0);
+  EXPECT_DOUBLE_EQ(undated.Next()->time, 5.0);
+}
+
 TEST(SickProtocolTest, HostDirectionParserForTheSimulator) {
   TelegramParser parser(false);
   parser.Push(EncodeRequest(kStatus), 0.0);

@@ -55,7 +55,7 @@ std::optional<Packet> P2osClient::WaitPacket(double timeout_s) {
     const double left = deadline - AgentClock::Now();
     if (left <= 0) return std::nullopt;
     const std::size_t n = port_->Read(buf, std::max(1, static_cast<int>(left * 1000)));
-    if (n > 0) parser_.Push({buf, n}, AgentClock::Now());
+    if (n > 0) parser_.Push({buf, n}, AgentClock::Now(), LineByteSeconds(port_->baud()));
   }
 }
 
@@ -197,7 +197,7 @@ void P2osClient::Run() {
       const std::size_t n = port_->Read(buf, 10);
       now = AgentClock::Now();
       if (n > 0) {
-        parser_.Push({buf, n}, now);
+        parser_.Push({buf, n}, now, LineByteSeconds(port_->baud()));
         last_byte = now;
       } else if (parser_.has_partial() && now - last_byte > 0.1) {
         parser_.DiscardPartial();  // ARIA: give up on a partial packet after 100 ms of silence

@@ -241,8 +241,8 @@ std::optional<Packet> PacketParser::Next() {
       ++stats_.bad_checksum;
       continue;
     }
-    Packet p{{payload.begin(), payload.end()}, buffer_.TimeOf(0)};
-    buffer_.Consume(count + 3);
+    Packet p{{payload.begin(), payload.end()}, 0.0};
+    p.time = buffer_.TakeFrame(count + 3);
     ++stats_.packets;
     return p;
   }

@@ -144,7 +144,10 @@ struct ParserStats {
 // is still found.
 class PacketParser {
  public:
-  void Push(std::span<const std::uint8_t> bytes, double arrival_time) { buffer_.Push(bytes, arrival_time); }
+  // 'byte_seconds': see FrameBuffer::Push.
+  void Push(std::span<const std::uint8_t> bytes, double arrival_time, double byte_seconds = 0.0) {
+    buffer_.Push(bytes, arrival_time, byte_seconds);
+  }
   std::optional<Packet> Next();
   // Forgets a partial packet (ARIA gives up after 100 ms without a byte).
   void DiscardPartial();

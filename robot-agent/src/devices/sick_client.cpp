@@ -49,7 +49,7 @@ std::optional<Telegram> SickClient::WaitReply(std::uint8_t reply_code, double ti
     const double left = deadline - AgentClock::Now();
     if (left <= 0) return std::nullopt;
     const std::size_t n = port_->Read(buf, std::max(1, static_cast<int>(left * 1000)));
-    if (n > 0) parser_.Push({buf, n}, AgentClock::Now());
+    if (n > 0) parser_.Push({buf, n}, AgentClock::Now(), LineByteSeconds(port_->baud()));
   }
 }
 
@@ -137,7 +137,7 @@ void SickClient::Run() {
   while (!stop_) {
     try {
       const std::size_t n = port_->Read(buf, 20);
-      if (n > 0) parser_.Push({buf, n}, AgentClock::Now());
+      if (n > 0) parser_.Push({buf, n}, AgentClock::Now(), LineByteSeconds(port_->baud()));
       while (auto t = parser_.Next()) {
         if (t->command != kScanReply) {
           const std::lock_guard<std::mutex> lock(mutex_);

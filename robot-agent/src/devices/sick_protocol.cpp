@@ -97,8 +97,7 @@ std::optional<Telegram> TelegramParser::Next() {
     const auto data = buffer_.View(5, data_len);
     t.data.assign(data.begin(), data.end());
     if (replies_) t.status = buffer_[4 + len - 1];
-    t.time = buffer_.TimeOf(0);
-    buffer_.Consume(len + 6);
+    t.time = buffer_.TakeFrame(len + 6);
     ++stats_.telegrams;
     return t;
   }

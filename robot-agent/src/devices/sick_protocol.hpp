@@ -79,7 +79,10 @@ struct ParserStats {
 class TelegramParser {
  public:
   explicit TelegramParser(bool replies) : replies_(replies) {}
-  void Push(std::span<const std::uint8_t> bytes, double arrival_time) { buffer_.Push(bytes, arrival_time); }
+  // 'byte_seconds': see FrameBuffer::Push.
+  void Push(std::span<const std::uint8_t> bytes, double arrival_time, double byte_seconds = 0.0) {
+    buffer_.Push(bytes, arrival_time, byte_seconds);
+  }
   std::optional<Telegram> Next();
   const ParserStats& stats() const { return stats_; }
   void Clear() { buffer_.Consume(buffer_.size()); }
