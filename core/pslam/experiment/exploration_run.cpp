@@ -131,8 +131,7 @@ bool ExplorationRun::Plan(const Pose2D& pose) {
     summary_.skipped_clusters = decision.skipped;
     hypothesis_arrived_ = false;
     if (decision.done()) {
-      target_.reset();
-      follower_.SetPath({});
+      DropTarget();
       if (decision.start_blocked && ++blocked_plans_ <= options_.max_blocked_plans) {
         look_around_until_ = time() + options_.look_around_s;
       } else {
@@ -170,8 +169,11 @@ DriveCommand ExplorationRun::Steer(ExplorationStep& out) {
   if (out.collided) {
     // A first contact drops the target without blacklisting it: after the back-off it is most
     // likely chosen again, and followed more tightly.
-    if (now < careful_until_) GiveUpTarget();
-    DropTarget();
+    if (now < careful_until_) {
+      GiveUpTarget();
+    } else {
+      DropTarget();
+    }
     careful_until_ = now + options_.careful_s;
     // Backing into something as well: stop backing and plan from here.
     const bool was_backing_off = now < back_off_until_;

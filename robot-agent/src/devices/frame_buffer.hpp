@@ -37,10 +37,7 @@ class FrameBuffer {
   double TimeOf(std::size_t offset) const {
     if (chunks_.empty()) return 0.0;
     const std::uint64_t absolute = consumed_ + offset;
-    const std::size_t i = ChunkOf(absolute);
-    const std::uint64_t chunk_end = i + 1 < chunks_.size() ? chunks_[i + 1].first_byte : consumed_ + bytes_.size();
-    const double bytes_after = chunk_end > absolute + 1 ? static_cast<double>(chunk_end - absolute - 1) : 0.0;
-    return chunks_[i].time - bytes_after * chunks_[i].byte_seconds;
+    return TimeIn(ChunkOf(absolute), absolute);
   }
   // Stamps the frame of 'length' bytes at the front and drops it. The stamp is the arrival of its
   // first byte, but never earlier than the frame before it plus that frame's time on the line: on
@@ -48,8 +45,12 @@ class FrameBuffer {
   // over bytes in bursts (a USB adapter, a pseudo-terminal) would otherwise let stamps run
   // backwards.
   double TakeFrame(std::size_t length) {
-    const double byte_seconds = chunks_.empty() ? 0.0 : chunks_[ChunkOf(consumed_)].byte_seconds;
-    const double stamp = std::max(TimeOf(0), next_frame_earliest_);
+    double stamp = next_frame_earliest_, byte_seconds = 0.0;
+    if (!chunks_.empty()) {
+      const std::size_t i = ChunkOf(consumed_);
+      stamp = std::max(stamp, TimeIn(i, consumed_));
+      byte_seconds = chunks_[i].byte_seconds;
+    }
     next_frame_earliest_ = stamp + static_cast<double>(length) * byte_seconds;
     Consume(length);
     return stamp;
@@ -64,6 +65,13 @@ class FrameBuffer {
   }
 
  private:
+  // Arrival of the byte at stream offset 'absolute', which chunk i holds: the chunk's arrival less
+  // the wire time of the bytes after it in that chunk.
+  double TimeIn(std::size_t i, std::uint64_t absolute) const {
+    const std::uint64_t chunk_end = i + 1 < chunks_.size() ? chunks_[i + 1].first_byte : consumed_ + bytes_.size();
+    const std::uint64_t bytes_after = chunk_end > absolute + 1 ? chunk_end - absolute - 1 : 0;
+    return chunks_[i].time - static_cast<double>(bytes_after) * chunks_[i].byte_seconds;
+  }
   // Index of the chunk that holds the byte at stream offset 'absolute'.
   std::size_t ChunkOf(std::uint64_t absolute) const {
     std::size_t i = 0;
