@@ -123,6 +123,52 @@ TEST_F(MazeRunTest, HypothesesOnlyEverCoverUnexploredCellsAndSomeMatchTheTruth) 
   EXPECT_LT(summary.mean_position_error_m, 0.3);
 }
 
+// Steps 'run' until it has accepted a hypothesis predicted from predicted structure, or is done:
+// one whose control point P1 has no observed wall within 'reach' cells but stands on a wall an
+// earlier hypothesis predicted. Returns how many it accepted.
+int StepUntilAChainedPrediction(ExplorationRun& run, int reach = 3) {
+  OccupancyGrid predicted_walls(run.slam().options().filter.resolution);
+  std::size_t seen = 0;
+  while (!run.done()) {
+    run.Step();
+    const OccupancyGrid& best = run.slam().filter().best().map;
+    for (; seen < run.accepted_hypotheses().size(); ++seen) {
+      const Hypothesis& h = run.accepted_hypotheses()[seen];
+      const Eigen::Vector2i p1 = best.WorldToCell(h.target_control_point);
+      bool observed_wall = false, predicted_wall = false;
+      for (int dy = -reach; dy <= reach; ++dy) {
+        for (int dx = -reach; dx <= reach; ++dx) {
+          const Eigen::Vector2i c = p1 + Eigen::Vector2i(dx, dy);
+          observed_wall = observed_wall || (best.IsKnown(c.x(), c.y()) && best.Probability(c.x(), c.y()) > 0.5f);
+          predicted_wall = predicted_wall || predicted_walls.IsKnown(c.x(), c.y());
+        }
+      }
+      if (!observed_wall && predicted_wall) return static_cast<int>(seen) + 1;
+      for (const HypothesisCell& c : h.cells) {
+        if (c.occupied) predicted_walls.MutableAt(c.cell.x(), c.cell.y()) = 0;
+      }
+    }
+  }
+  return -1;
+}
+
+// Skip-predicted exploration plans on the merged map, and its targets lie at the edge of what is
+// predicted: the predictor reads the same map, so a prediction can carry on from predicted walls.
+TEST_F(MazeRunTest, PredictionsCarryOnFromPredictedWallsWhenPlanningOnTheMergedMap) {
+  ExplorationRun run(world_, start_, ShortRunOptions(ExploreMode::kSkipPredicted, 400.0));
+  ASSERT_TRUE(run.slam().options().predict_on_merged_map);
+  const int accepted = StepUntilAChainedPrediction(run);
+  EXPECT_GT(accepted, 0) << "none in " << run.time() << " s";
+
+  // Planning on the built map, the predictor reads it too, and never sees a predicted wall.
+  ExplorationOptions options = ShortRunOptions(ExploreMode::kSkipPredicted, 400.0);
+  options.plan_on_merged_map = false;
+  ExplorationRun on_built(world_, start_, options);
+  ASSERT_FALSE(on_built.slam().options().predict_on_merged_map);
+  EXPECT_EQ(StepUntilAChainedPrediction(on_built), -1);
+  EXPECT_FALSE(on_built.accepted_hypotheses().empty());
+}
+
 TEST_F(MazeRunTest, SameSeedSameRun) {
   const ExplorationOptions options = ShortRunOptions(ExploreMode::kSkipPredicted, 70.0);
   ExplorationRun a(world_, start_, options), b(world_, start_, options);

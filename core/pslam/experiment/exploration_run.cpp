@@ -6,9 +6,14 @@
 namespace pslam {
 namespace {
 
-PSlamOptions WithStartPose(PSlamOptions options, const Pose2D& start) {
+PSlamOptions SlamOptionsFor(const ExplorationOptions& exploration, const Pose2D& start) {
+  PSlamOptions options = exploration.slam;
   options.filter.initial_pose = start;
   options.heading_targets = false;  // the explorer sets the targets
+  // The predictor sees the map the explorer plans on, so that the edge of what is predicted,
+  // where the targets lie, has surroundings to predict from.
+  options.predict_on_merged_map =
+      exploration.explore.mode == ExploreMode::kSkipPredicted && exploration.plan_on_merged_map;
   return options;
 }
 
@@ -40,7 +45,7 @@ const char* ExplorationStateName(ExplorationState state) {
 ExplorationRun::ExplorationRun(World world, const Pose2D& start, const ExplorationOptions& options)
     : options_(options),
       simulator_(std::move(world), start, options.simulator),
-      slam_(WithStartPose(options.slam, start)),
+      slam_(SlamOptionsFor(options, start)),
       follower_(options.follower),
       pose_at_scan_(start),
       odometry_at_scan_(start) {

@@ -32,7 +32,8 @@ namespace pslam {
 
 struct ExplorationOptions {
   // slam.predict = false runs the plain RBPF. slam.filter.initial_pose is overwritten with the
-  // start pose, so that the SLAM map frame is the world frame and results compare with the truth.
+  // start pose, so that the SLAM map frame is the world frame and results compare with the truth,
+  // and slam.predict_on_merged_map with plan_on_merged_map in skip-predicted mode.
   PSlamOptions slam;
   ExploreOptions explore;             // explore.mode: full coverage or skip-predicted
   FollowerOptions follower;
@@ -59,6 +60,7 @@ struct ExplorationOptions {
   // a frontier is skipped once the first skip_radius of unknown space behind it is predicted, and
   // whatever lies farther is never visited nor predicted: in the maze (seeds 1-3) such runs ended
   // with 13 % of the free area neither mapped nor predicted, against 0.2 % on the merged map.
+  // The predictor then predicts from the merged map too (PSlamOptions::predict_on_merged_map).
   bool plan_on_merged_map = true;
   // Skip-predicted only: the explorer's "unknown" includes cells observed once or twice whose
   // probability is still undecided (cell_class.hpp), but the predictor counts every observed cell

@@ -69,7 +69,7 @@ void PSlam::SetTarget(const Eigen::Vector2i& cell, double time) {
   if (!predictor_ || filter_.particles().empty()) return;
   // H of eq. 20 works on the best particle's map (copying it copies tile pointers only). A request
   // the busy predictor drops leaves predicted_target_ alone, so the next target asks again.
-  if (predictor_->Request(filter_.best().map, cell, time)) {
+  if (predictor_->Request(options_.predict_on_merged_map ? MergedMap() : filter_.best().map, cell, time)) {
     predicted_target_ = cell;
     ++stats_.new_targets;
   }

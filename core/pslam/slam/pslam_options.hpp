@@ -39,6 +39,14 @@ struct PSlamOptions {
   // to the one last predicted for is the same exploration goal and starts no new prediction.
   // A quarter of the region size d: the new S_f would overlap the last one by over half.
   double new_target_distance_m = 2.5;
+  // Predict from MergedMap() (the best map with the hypotheses not refuted written in) instead of
+  // the best map alone: predicted walls then serve as the target's surroundings, its control point
+  // and references too. For an explorer that plans on the merged map (the paper's "virtual
+  // mapping", Sec. II-B), whose targets lie at the edge of what is predicted: there the observed
+  // map seldom has a corner near enough to be the control point, and the prediction stops where
+  // the first one ended. Errors then carry from one hypothesis into the next; the maze
+  // experiment's merged Psi against the true world measures how far.
+  bool predict_on_merged_map = false;
   HypothesisJudgeOptions judge;
   HeadingTargetOptions heading;
 };
