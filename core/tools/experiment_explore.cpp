@@ -21,12 +21,15 @@ namespace {
 constexpr const char* kUsage =
     "usage: pslam experiment explore [--world FILE.yaml] [--start X,Y,THETA] [--runs N] [--json OUT]\n"
     "                                [--save PREFIX] [--skip-fraction F] [--skip-radius M]\n"
-    "                                [--plan-on-best-map] [--pslam-mode skip|full] [--quiet] [options]\n"
+    "                                [--plan-on-best-map] [--unbounded] [--pslam-mode skip|full]\n"
+    "                                [--quiet] [options]\n"
     "  Explores the world with the plain RBPF and full coverage, then with P-SLAM skipping predicted\n"
     "  regions, and compares the exploration times; --runs repeats both with seeds S, S+1, ...\n"
     "  Default world: core/worlds/maze.yaml. --skip-fraction and --skip-radius tune when a frontier\n"
     "  counts as predicted (0.8, 2 m). P-SLAM plans on the map with its predictions merged in;\n"
-    "  --plan-on-best-map plans on the built map alone. --pslam-mode full runs P-SLAM with full\n"
+    "  --plan-on-best-map plans on the built map alone. The world's boundary is known, as for the\n"
+    "  paper's Fig. 7(d): no frontier outside it is explored; --unbounded drops that (Fig. 7(e)).\n"
+    "  --pslam-mode full runs P-SLAM with full\n"
     "  coverage too, to compare maps with the same explorer (the irregular world). --save PREFIX\n"
     "  writes PREFIX_full, PREFIX_skip and PREFIX_skip_merged maps of the first run (.pgm/.yaml/.png).\n";
 
@@ -142,6 +145,7 @@ int RunExploreExperiment(CliArgs& cli) {
   options.explore.skip_covered_fraction = cli.Double("--skip-fraction", options.explore.skip_covered_fraction);
   options.explore.skip_radius = cli.Double("--skip-radius", options.explore.skip_radius);
   options.plan_on_merged_map = !cli.Flag("--plan-on-best-map");
+  const bool unbounded = cli.Flag("--unbounded");
   const std::string pslam_mode = cli.Value("--pslam-mode").value_or("skip");
   const std::optional<std::string> json_path = cli.Value("--json");
   const std::optional<std::string> save_prefix = cli.Value("--save");
@@ -157,6 +161,7 @@ int RunExploreExperiment(CliArgs& cli) {
     return 2;
   }
   try {
+    if (!unbounded) options.explore.area = world->world.Extent();
     const OccupancyGrid truth = world->world.ToGrid();
     const std::uint64_t first_seed = options.slam.filter.seed;
     std::printf("world %s, start (%.2f, %.2f, %.3f), %d particles, similarity threshold %.2f, %d run(s)\n",
@@ -236,6 +241,7 @@ int RunExploreExperiment(CliArgs& cli) {
                                 {"skip_covered_fraction", JsonNumber(options.explore.skip_covered_fraction)},
                                 {"skip_radius_m", JsonNumber(options.explore.skip_radius)},
                                 {"plan_on_merged_map", options.plan_on_merged_map ? "true" : "false"},
+                                {"area_known", unbounded ? "false" : "true"},
                                 {"pslam_mode", JsonString(pslam_mode)},
                                 {"time_full_s", JsonNumber(mean_full)},
                                 {"time_skip_s", JsonNumber(mean_skip)},

@@ -197,6 +197,22 @@ TEST(ExploreExplorerTest, BlacklistedTargetsAreLeftOut) {
   EXPECT_GT(decision.target->position.x(), 5.9);
 }
 
+TEST(ExploreExplorerTest, FrontiersOutsideTheAreaAreNotTargets) {
+  const OccupancyGrid grid = RoomWithTwoOpenings();
+  ExploreOptions options;
+  options.area = Eigen::AlignedBox2d(Eigen::Vector2d(0.5, -0.1), Eigen::Vector2d(6.5, 4.1));  // not the left opening
+  const ExploreDecision decision = SelectNextTarget(grid, RobotAt(1.5, 2.0), options);
+  ASSERT_FALSE(decision.done());
+  EXPECT_EQ(decision.outside_area, 1);
+  EXPECT_GT(decision.target->position.x(), 5.9);
+
+  // Neither opening inside: exploring is done.
+  options.area = Eigen::AlignedBox2d(Eigen::Vector2d(0.5, -0.1), Eigen::Vector2d(5.5, 4.1));
+  const ExploreDecision none = SelectNextTarget(grid, RobotAt(1.5, 2.0), options);
+  EXPECT_TRUE(none.done());
+  EXPECT_EQ(none.outside_area, 2);
+}
+
 TEST(ExploreExplorerTest, DoneWhenNoFrontierOrNoneReachable) {
   OccupancyGrid closed = RoomWithTwoOpenings();
   for (int y = 30; y < 50; ++y) {

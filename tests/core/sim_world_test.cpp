@@ -26,6 +26,8 @@ TEST(SimWorldTest, WalledRoomHasFreeInteriorAndOccupiedWalls) {
   EXPECT_TRUE(world.IsOccupied(world.WorldToCell({10.06, 3.0})));
   EXPECT_EQ(world.At(world.WorldToCell({-1.0, 3.0})), WorldCell::kUnknown);  // beyond the bounds
   EXPECT_EQ(world.Count(WorldCell::kFree), 200u * 120u);
+  // The walls' outer faces bound it.
+  EXPECT_TRUE(world.Extent().isApprox(Eigen::AlignedBox2d(Eigen::Vector2d(-0.1, -0.1), Eigen::Vector2d(10.1, 6.1))));
 }
 
 TEST(SimWorldTest, DiscFreeIsExactAgainstWalls) {

@@ -110,6 +110,10 @@ ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest
       continue;
     }
     const Eigen::Vector2d position = grid.CellCenter(*representative);
+    if (options.area && !options.area->contains(position)) {
+      ++decision.outside_area;
+      continue;
+    }
     if ((position - request.robot_position).norm() < options.min_target_distance) {
       ++decision.too_close;
       continue;

@@ -6,6 +6,7 @@
 // accepted structure hypotheses (the caller's predicate), which is how P-SLAM saves exploration
 // time. One Dijkstra search from the robot ranks all clusters at once.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <functional>
 #include <optional>
 #include <vector>
@@ -40,6 +41,12 @@ struct ExploreOptions {
   // to it would end at once without revealing anything. Reached later from elsewhere, the robot
   // arrives facing it.
   double min_target_distance = 0.5;     // m
+  // The area to explore, in map metres, when it is known: clusters whose representative lies
+  // outside are not targets. The paper's maze result (Fig. 7(d)) knows the maze's boundary.
+  // Predictions reach beyond outer walls (its Fig. 7(e)); where they cover a stretch of wall not
+  // yet seen, the planner finds a way out through them, and each prediction out there opens new
+  // frontiers to predict for. Unset: unbounded.
+  std::optional<Eigen::AlignedBox2d> area;
 };
 
 // Whether an unknown cell (of the built map's lattice) is covered by an accepted hypothesis.
@@ -70,14 +77,15 @@ struct ExploreTarget {
 };
 
 struct ExploreDecision {
-  // Empty when exploration is done: no frontier cluster is left that is reachable, not skipped
-  // and not blacklisted.
+  // Empty when exploration is done: no frontier cluster is left that is reachable, inside the
+  // area, not skipped and not blacklisted.
   std::optional<ExploreTarget> target;
   int clusters = 0;          // frontier clusters found
   int skipped = 0;           // covered by predictions
   int unreachable = 0;       // no traversable cell reached by the search
   int blacklisted = 0;
   int too_close = 0;         // within min_target_distance of the robot
+  int outside_area = 0;      // outside ExploreOptions::area
   bool start_blocked = false;     // the robot's own position could not be left: nothing is reachable
   bool search_truncated = false;  // the search hit its node cap: farther clusters were not ranked
 

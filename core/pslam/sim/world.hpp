@@ -3,6 +3,7 @@
 // same world-anchored cell lattice as OccupancyGrid (cell (i, j) covers [i*res, (i+1)*res) x ...).
 // Dense rather than tiled because the simulator reads it millions of times and never grows it.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -25,6 +26,10 @@ class World {
 
   double resolution() const { return resolution_; }
   const CellBox& bounds() const { return bounds_; }
+  // The area the cells cover, in metres.
+  Eigen::AlignedBox2d Extent() const {
+    return {bounds_.min.cast<double>() * resolution_, (bounds_.max.cast<double>() + Eigen::Vector2d::Ones()) * resolution_};
+  }
 
   Eigen::Vector2i WorldToCell(const Eigen::Vector2d& p) const {
     return {static_cast<int>(std::floor(p.x() / resolution_)), static_cast<int>(std::floor(p.y() / resolution_))};
