@@ -29,9 +29,9 @@ constexpr const char* kUsage =
     "  counts as predicted (0.8, 2 m). P-SLAM plans on the map with its predictions merged in;\n"
     "  --plan-on-best-map plans on the built map alone. The world's boundary is known, as for the\n"
     "  paper's Fig. 7(d): no frontier outside it is explored; --unbounded drops that (Fig. 7(e)).\n"
-    "  --pslam-mode full runs P-SLAM with full\n"
-    "  coverage too, to compare maps with the same explorer (the irregular world). --save PREFIX\n"
-    "  writes PREFIX_full, PREFIX_skip and PREFIX_skip_merged maps of the first run (.pgm/.yaml/.png).\n";
+    "  --pslam-mode full runs P-SLAM with full coverage too, to compare maps with the same explorer\n"
+    "  (the irregular world). --save PREFIX writes PREFIX_full, PREFIX_skip and PREFIX_skip_merged\n"
+    "  maps of the first run (.pgm/.yaml/.png).\n";
 
 struct ExploreRow {
   std::string name;

@@ -28,7 +28,8 @@ class World {
   const CellBox& bounds() const { return bounds_; }
   // The area the cells cover, in metres.
   Eigen::AlignedBox2d Extent() const {
-    return {bounds_.min.cast<double>() * resolution_, (bounds_.max.cast<double>() + Eigen::Vector2d::Ones()) * resolution_};
+    return {bounds_.min.cast<double>() * resolution_,
+            (bounds_.max.cast<double>() + Eigen::Vector2d::Ones()) * resolution_};
   }
 
   Eigen::Vector2i WorldToCell(const Eigen::Vector2d& p) const {

@@ -2,12 +2,13 @@
 // P-SLAM (Chang et al., IEEE T-RO 2007): the particle filter plus the look-ahead mapping of
 // Fig. 6. For every new exploration target T_k (not every replanning toward the same frontier, see
 // PSlamOptions::new_target_distance_m) the structure predictor runs on its own thread over a
-// snapshot of the best map (or the merged map, PSlamOptions::predict_on_merged_map); an accepted hypothesis h_k goes into every particle's
-// hypothesis map (H of eq. 20), weighs the particles through S2 (eq. 21-22, with the hit-ratio
-// recovery of eq. 23), and gives way cell by cell to what the robot observes (V of eq. 20). Each
-// hypothesis is judged once enough of it, with enough structure, has been seen: confirmed or
-// refuted by Psi against the observation (hypothesis_judge.hpp), or expired if the robot never
-// goes there. Only a refutation withdraws a hypothesis's coverage of unexplored space.
+// snapshot of the best map (or of the merged map, PSlamOptions::predict_on_merged_map); an
+// accepted hypothesis h_k goes into every particle's hypothesis map (H of eq. 20), weighs the
+// particles through S2 (eq. 21-22, with the hit-ratio recovery of eq. 23), and gives way cell by
+// cell to what the robot observes (V of eq. 20). Each hypothesis is judged once enough of it, with
+// enough structure, has been seen: confirmed or refuted by Psi against the observation
+// (hypothesis_judge.hpp), or expired if the robot never goes there. Only a refutation withdraws a
+// hypothesis's coverage of unexplored space.
 #include <Eigen/Core>
 #include <memory>
 #include <optional>
