@@ -156,6 +156,27 @@ TEST(ExploreExplorerTest, PartlyCoveredClustersAreStillExplored) {
   EXPECT_LT(decision.target->position.x(), 0.1);
 }
 
+TEST(ExploreExplorerTest, UndecidedCellsCountNeitherAsCoveredNorAsUncovered) {
+  const OccupancyGrid grid = RoomWithTwoOpenings();
+  const auto clusters = FindFrontierClusters(grid);
+  ASSERT_EQ(clusters.size(), 2u);
+  const FrontierCluster& left = clusters[0].centroid.x() < 3.0 ? clusters[0] : clusters[1];
+  // The first metre beyond the left opening was observed but is undecided; hypotheses predict
+  // all the rest.
+  ExploreRequest request;
+  request.undecided = [](const Eigen::Vector2i& c) { return c.x() >= -20 && c.x() < 0; };
+  request.covered = [](const Eigen::Vector2i& c) { return c.x() < -20 || c.x() >= 0; };
+  const auto fraction = CoveredFraction(grid, left, request, 2.0);
+  ASSERT_TRUE(fraction.has_value());
+  EXPECT_DOUBLE_EQ(*fraction, 1.0);
+
+  // Nothing predicted: the undecided metre does not make the frontier look covered.
+  request.covered = {};
+  EXPECT_EQ(CoveredFraction(grid, left, request, 2.0), std::optional<double>(0.0));
+  // Only undecided cells within reach: nothing to judge by.
+  EXPECT_EQ(CoveredFraction(grid, left, request, 0.9), std::nullopt);
+}
+
 TEST(ExploreExplorerTest, OnTheMergedMapAnUnknownGapBetweenPredictionsIsSkipped) {
   // The merged map: beyond the left opening a hypothesis predicts 2 m of free space, which the
   // merged map shows as free, all but a 30 cm x 30 cm gap it left unknown. The gap's rim is a

@@ -122,12 +122,13 @@ bool ExplorationRun::Plan(const Pose2D& pose) {
     request.robot_position = pose.translation();
     request.blacklist = blacklist_;
     if (skip) {
-      request.covered = [this](const Eigen::Vector2i& cell) {
-        if (options_.observed_counts_as_covered && slam_.filter().best().map.IsKnown(cell.x(), cell.y())) return true;
-        return slam_.IsCovered(cell);
-      };
+      request.covered = [this](const Eigen::Vector2i& cell) { return slam_.IsCovered(cell); };
       request.predicted_wall = [this](const Eigen::Vector2i& cell) { return slam_.IsPredictedWall(cell); };
-      request.predicted = [this](const Eigen::Vector2i& cell) { return slam_.IsCovered(cell); };
+      request.predicted = request.covered;
+      // An unknown cell of the planning map that the best map has observed is an undecided one.
+      request.undecided = [this](const Eigen::Vector2i& cell) {
+        return slam_.filter().best().map.IsKnown(cell.x(), cell.y());
+      };
     }
     const ExploreDecision decision =
         skip && options_.plan_on_merged_map ? SelectNextTarget(slam_.MergedMap(), request, options_.explore)

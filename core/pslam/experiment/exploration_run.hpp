@@ -62,12 +62,6 @@ struct ExplorationOptions {
   // with 13 % of the free area neither mapped nor predicted, against 0.2 % on the merged map.
   // The predictor then predicts from the merged map too (PSlamOptions::predict_on_merged_map).
   bool plan_on_merged_map = true;
-  // Skip-predicted only: the explorer's "unknown" includes cells observed once or twice whose
-  // probability is still undecided (cell_class.hpp), but the predictor counts every observed cell
-  // as explored and never predicts it, so PSlam::IsCovered is false there. Around the ragged end
-  // of the laser's reach such cells dominate and no frontier could ever look covered; counting
-  // them as covered asks only whether the never-observed cells are predicted.
-  bool observed_counts_as_covered = true;
   // Wait (on the wall clock) for the prediction of each new target, so that a run is the same
   // whatever the machine's load; false: predictions arrive when the worker is done, as on a robot.
   bool wait_for_predictions = true;

@@ -51,8 +51,10 @@ std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierC
     if (!is_source) {
       const auto it = distance.find(CellKey(c));
       if (it != distance.end() && it->second < d) continue;  // stale
-      ++unexplored;
-      if (request.covered && request.covered(c)) ++hit;
+      if (!request.undecided || !request.undecided(c)) {
+        ++unexplored;
+        if (request.covered && request.covered(c)) ++hit;
+      }
       // A predicted wall (or a cell next to a wall): the space behind is another's.
       if (NearWall(grid, c, seal_cells, classes, request.predicted_wall)) continue;
     }
