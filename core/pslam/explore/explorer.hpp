@@ -104,9 +104,9 @@ ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest
 // Visible for testing: the fraction of a frontier's unexplored surroundings that predictions
 // cover. The cells within 'radius' of the cluster, reached from its cells through unknown cells
 // and through request.predicted ones, are counted (but not request.undecided ones), and those for
-// which request.covered holds are hits; nullopt when none are counted. Cells for which request.predicted_wall holds, and cells
-// within 'seal_cells' of such a cell or of an occupied one, are counted but not passed through
-// (ExploreOptions::wall_seal_cells).
+// which request.covered holds are hits; nullopt when none are counted. Cells for which
+// request.predicted_wall holds, and cells within 'seal_cells' of such a cell or of an occupied
+// one, are counted but not passed through (ExploreOptions::wall_seal_cells).
 std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierCluster& cluster,
                                       const ExploreRequest& request, double radius, int seal_cells = 0,
                                       const CellClassOptions& classes = {});
