@@ -157,14 +157,18 @@ TEST(ExploreExplorerTest, PartlyCoveredClustersAreStillExplored) {
 }
 
 TEST(ExploreExplorerTest, UndecidedCellsCountNeitherAsCoveredNorAsUncovered) {
-  const OccupancyGrid grid = RoomWithTwoOpenings();
+  // The first metre beyond the left opening was observed but is undecided (p = 0.5); hypotheses
+  // predict all the rest.
+  OccupancyGrid grid = RoomWithTwoOpenings();
+  for (int y = -60; y <= 140; ++y) {
+    for (int x = -20; x < 0; ++x) {
+      if (!grid.IsKnown(x, y)) grid.MutableAt(x, y) = 0;
+    }
+  }
   const auto clusters = FindFrontierClusters(grid);
   ASSERT_EQ(clusters.size(), 2u);
   const FrontierCluster& left = clusters[0].centroid.x() < 3.0 ? clusters[0] : clusters[1];
-  // The first metre beyond the left opening was observed but is undecided; hypotheses predict
-  // all the rest.
   ExploreRequest request;
-  request.undecided = [](const Eigen::Vector2i& c) { return c.x() >= -20 && c.x() < 0; };
   request.covered = [](const Eigen::Vector2i& c) { return c.x() < -20 || c.x() >= 0; };
   const auto fraction = CoveredFraction(grid, left, request, 2.0);
   ASSERT_TRUE(fraction.has_value());

@@ -125,10 +125,6 @@ bool ExplorationRun::Plan(const Pose2D& pose) {
       request.covered = [this](const Eigen::Vector2i& cell) { return slam_.IsCovered(cell); };
       request.predicted_wall = [this](const Eigen::Vector2i& cell) { return slam_.IsPredictedWall(cell); };
       request.predicted = request.covered;
-      // An unknown cell of the planning map that the best map has observed is an undecided one.
-      request.undecided = [this](const Eigen::Vector2i& cell) {
-        return slam_.filter().best().map.IsKnown(cell.x(), cell.y());
-      };
     }
     const ExploreDecision decision =
         skip && options_.plan_on_merged_map ? SelectNextTarget(slam_.MergedMap(), request, options_.explore)

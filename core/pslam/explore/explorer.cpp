@@ -51,7 +51,11 @@ std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierC
     if (!is_source) {
       const auto it = distance.find(CellKey(c));
       if (it != distance.end() && it->second < d) continue;  // stale
-      if (!request.undecided || !request.undecided(c)) {
+      // Reached cells are unknown to the explorer or predicted; one the grid knows and that is not
+      // predicted (the merged map knows predicted cells) was observed and is still undecided.
+      const bool predicted = request.predicted && request.predicted(c);
+      const bool undecided = grid.IsKnown(c.x(), c.y()) && !predicted;
+      if (!undecided) {
         ++unexplored;
         if (request.covered && request.covered(c)) ++hit;
       }

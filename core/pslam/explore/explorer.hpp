@@ -66,12 +66,6 @@ struct ExploreRequest {
   // fraction counts them, so that an unknown gap between predictions is skipped, not visited.
   // Empty: the planning map's unknown cells are all there is.
   CoveredPredicate predicted;
-  // Cells observed once or twice whose state is still undecided (kSkipPredicted): the explorer
-  // counts them as unknown (cell_class.hpp), but no prediction ever covers an observed cell. The
-  // covered fraction floods through them without counting them, so that it asks only whether the
-  // never-observed cells are predicted. Around the ragged end of the laser's reach such cells
-  // dominate, and counted as uncovered no frontier there could ever look covered. Empty: none.
-  CoveredPredicate undecided;
 };
 
 struct ExploreTarget {
@@ -103,10 +97,14 @@ ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest
 
 // Visible for testing: the fraction of a frontier's unexplored surroundings that predictions
 // cover. The cells within 'radius' of the cluster, reached from its cells through unknown cells
-// and through request.predicted ones, are counted (but not request.undecided ones), and those for
-// which request.covered holds are hits; nullopt when none are counted. Cells for which
-// request.predicted_wall holds, and cells within 'seal_cells' of such a cell or of an occupied
-// one, are counted but not passed through (ExploreOptions::wall_seal_cells).
+// and through request.predicted ones, are counted, and those for which request.covered holds are
+// hits; nullopt when none are counted. Cells 'grid' has observed but not decided (unknown to the
+// explorer, cell_class.hpp) are passed through but not counted: no prediction ever covers an
+// observed cell, so the fraction asks only whether the never-observed ones are predicted. Around
+// the ragged end of the laser's reach such cells dominate, and counted as uncovered no frontier
+// there could ever look covered. Cells for which request.predicted_wall holds, and cells within
+// 'seal_cells' of such a cell or of an occupied one, are counted but not passed through
+// (ExploreOptions::wall_seal_cells).
 std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierCluster& cluster,
                                       const ExploreRequest& request, double radius, int seal_cells = 0,
                                       const CellClassOptions& classes = {});

@@ -15,8 +15,6 @@ PlanResult Plan(const PlanRequest& request) {
   explore.predicted_wall = [&coverage = request.coverage](const Eigen::Vector2i& cell) {
     return coverage.PredictedWall(cell);
   };
-  // The explorer's unknown cells that the map has observed are undecided ones (ExploreRequest).
-  explore.undecided = [&map = request.map](const Eigen::Vector2i& cell) { return map.IsKnown(cell.x(), cell.y()); };
   PlanResult result;
   result.pose = request.pose;
   result.time = request.time;
