@@ -200,12 +200,13 @@ class ServerLink::Impl {
 
   void Handle(const ConnectionPtr& conn, const ServerMessage& message) {
     if (const auto* ack = std::get_if<AckMessage>(&message)) {
-      spool_.Acknowledge(ack->seq + seq_base_);
-      paused_ = false;
+      // The status first: whoever sees the spool drop the records then sees the ack reported.
       {
         const std::lock_guard<std::mutex> lock(mutex_);
         status_.acked_wire_seq = std::max(status_.acked_wire_seq, ack->seq);
       }
+      spool_.Acknowledge(ack->seq + seq_base_);
+      paused_ = false;
       return Pump(conn);
     }
     if (const auto* welcome = std::get_if<WelcomeMessage>(&message)) return OnWelcome(conn, *welcome);
@@ -228,18 +229,18 @@ class ServerLink::Impl {
       seq_base_ = spool_.acked_seq();
       if (!options_.session_file.empty()) SaveSessionState(options_.session_file, {session_id_, seq_base_});
     }
-    spool_.Acknowledge(welcome.last_acked_seq + seq_base_);
-    next_send_ = spool_.acked_seq() + 1;
-    paused_ = false;
-    conn->welcomed = true;
-    backoff_s_ = options_.backoff_initial_s;
     {
-      const std::lock_guard<std::mutex> lock(mutex_);
+      const std::lock_guard<std::mutex> lock(mutex_);  // before the spool, as for an ack
       status_.state = LinkState::kStreaming;
       status_.session_id = session_id_;
       status_.acked_wire_seq = welcome.last_acked_seq;
       ++status_.connections;
     }
+    spool_.Acknowledge(welcome.last_acked_seq + seq_base_);
+    next_send_ = spool_.acked_seq() + 1;
+    paused_ = false;
+    conn->welcomed = true;
+    backoff_s_ = options_.backoff_initial_s;
     const std::uint64_t backlog = spool_.next_seq() - next_send_;
     PSLAM_LOG(kInfo) << "streaming to " << options_.host << ":" << options_.port << " in session " << session_id_
                      << " from seq " << next_send_ - seq_base_ << " (" << backlog << " message(s) waiting)";
