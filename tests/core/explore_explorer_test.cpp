@@ -181,6 +181,32 @@ TEST(ExploreExplorerTest, UndecidedCellsCountNeitherAsCoveredNorAsUncovered) {
   EXPECT_EQ(CoveredFraction(grid, left, request, 0.9), std::nullopt);
 }
 
+TEST(ExploreExplorerTest, UndecidedCellsAHypothesisPredictsCountAsCovered) {
+  // As above, but a hypothesis predicts the undecided metre too (P-SLAM covers the cells of S_f
+  // it has not decided, not only those it never observed).
+  OccupancyGrid grid = RoomWithTwoOpenings();
+  for (int y = -60; y <= 140; ++y) {
+    for (int x = -20; x < 0; ++x) {
+      if (!grid.IsKnown(x, y)) grid.MutableAt(x, y) = 0;
+    }
+  }
+  const auto clusters = FindFrontierClusters(grid);
+  ASSERT_EQ(clusters.size(), 2u);
+  const FrontierCluster& left = clusters[0].centroid.x() < 3.0 ? clusters[0] : clusters[1];
+  ExploreRequest request;
+  request.covered = [](const Eigen::Vector2i& c) { return c.x() < 0; };
+  request.predicted = request.covered;
+  EXPECT_EQ(CoveredFraction(grid, left, request, 0.9), std::optional<double>(1.0));
+
+  // The undecided metre predicted, the space behind it not: mostly uncovered.
+  request.covered = [](const Eigen::Vector2i& c) { return c.x() >= -20 && c.x() < 0; };
+  request.predicted = request.covered;
+  const auto fraction = CoveredFraction(grid, left, request, 2.0);
+  ASSERT_TRUE(fraction.has_value());
+  EXPECT_GT(*fraction, 0.0);
+  EXPECT_LT(*fraction, 0.8);
+}
+
 TEST(ExploreExplorerTest, OnTheMergedMapAnUnknownGapBetweenPredictionsIsSkipped) {
   // The merged map: beyond the left opening a hypothesis predicts 2 m of free space, which the
   // merged map shows as free, all but a 30 cm x 30 cm gap it left unknown. The gap's rim is a

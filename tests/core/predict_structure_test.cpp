@@ -356,6 +356,41 @@ TEST(StructurePredictor, TakeExploredDropsNewlyObservedCells) {
   EXPECT_DOUBLE_EQ(h->area_m2, area);  // the area predicted when it was made
 }
 
+TEST(StructurePredictor, UndecidedCellsArePredictedApartFromNeverObservedOnes) {
+  Scene scene = HalfExploredRooms();
+  // The first metre of the hidden half was seen once, too little to decide (p = 0.5).
+  const Eigen::Vector2i a = scene.built.WorldToCell({16.5, 2.06}), b = scene.built.WorldToCell({17.5, 8.5});
+  int undecided = 0;
+  for (int y = a.y(); y <= b.y(); ++y) {
+    for (int x = a.x(); x <= b.x(); ++x) {
+      if (scene.built.IsKnown(x, y) || !scene.truth.IsKnown(x, y)) continue;
+      scene.built.MutableAt(x, y) = 0;
+      ++undecided;
+    }
+  }
+  ASSERT_GT(undecided, 100);
+  StructurePredictor predictor;
+  auto h = predictor.Predict(scene.built, scene.target, 0.0);
+  ASSERT_TRUE(h.has_value()) << "outcome " << static_cast<int>(predictor.last_report().outcome);
+  for (const HypothesisCell& c : h->cells) ASSERT_FALSE(scene.built.IsKnown(c.cell.x(), c.cell.y()));
+  ASSERT_GT(h->undecided_cells.size(), 0.8 * undecided);
+  int right = 0;
+  for (const HypothesisCell& c : h->undecided_cells) {
+    ASSERT_EQ(scene.built.At(c.cell.x(), c.cell.y()), 0);
+    right += c.occupied == OccupiedNear(scene.truth, c.cell, 1);
+  }
+  EXPECT_GT(right, 0.9 * static_cast<double>(h->undecided_cells.size()));
+  // They count apart from the predicted area, which is the never-observed part.
+  EXPECT_NEAR(h->area_m2, static_cast<double>(h->cells.size()) * kResolution * kResolution, 1e-9);
+
+  // Still undecided: nothing to take. Decided by the real map: all taken.
+  const CellClassifier classify;
+  EXPECT_TRUE(TakeDecided(*h, scene.built, classify).empty());
+  const std::size_t count = h->undecided_cells.size();
+  EXPECT_EQ(TakeDecided(*h, scene.truth, classify).size(), count);
+  EXPECT_TRUE(h->undecided_cells.empty());
+}
+
 TEST(StructurePredictor, ObservedSimilarityIsLowForAWrongPrediction) {
   Hypothesis h;
   for (int x = 0; x < 40; ++x) {

@@ -30,8 +30,9 @@ std::vector<HypothesisCell> TransformCells(const std::vector<HypothesisCell>& ce
                                            double resolution);
 
 // The predicted cells of P-SLAM's merged map: those of the hypotheses not refuted that the
-// best map still does not know (what MergedMap() adds to the built map), each hypothesis's cells
-// moved by to_reference(its id) when given (see TransformCells); a cell predicted twice counts once.
+// best map still does not know or has not decided (what MergedMap() adds to the built map), each
+// hypothesis's cells moved by to_reference(its id) when given (see TransformCells); a cell
+// predicted twice counts once.
 std::vector<HypothesisCell> MergedPredictedCells(const PSlam& slam,
                                                  const std::function<Pose2D(int id)>& to_reference = {});
 

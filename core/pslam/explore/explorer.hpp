@@ -60,7 +60,7 @@ struct ExploreRequest {
   // it; it must not count against the frontier. Empty: no walls.
   CoveredPredicate predicted_wall;
   std::vector<Eigen::Vector2d> blacklist;  // goals the caller gave up on (e.g. blocked on the way)
-  // Cells an accepted hypothesis predicts and the built map has not observed (kSkipPredicted).
+  // Cells an accepted hypothesis predicts and the built map has not decided (kSkipPredicted).
   // When the explorer plans on the map with the predictions merged in, they look mapped, yet they
   // are the frontier's unexplored surroundings as much as the unknown cells are: the covered
   // fraction counts them, so that an unknown gap between predictions is skipped, not visited.
@@ -99,10 +99,10 @@ ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest
 // cover. The cells within 'radius' of the cluster, reached from its cells through unknown cells
 // and through request.predicted ones, are counted, and those for which request.covered holds are
 // hits; nullopt when none are counted. Cells 'grid' has observed but not decided (unknown to the
-// explorer, cell_class.hpp) are passed through but not counted: no prediction ever covers an
-// observed cell, so the fraction asks only whether the never-observed ones are predicted. Around
-// the ragged end of the laser's reach such cells dominate, and counted as uncovered no frontier
-// there could ever look covered. Cells for which request.predicted_wall holds, and cells within
+// explorer, cell_class.hpp) are counted only where request.predicted holds, and otherwise passed
+// through: around the ragged end of the laser's reach such cells dominate, and counted as
+// uncovered no frontier there could ever look covered, while counted as covered they would skip
+// frontiers nothing predicted. Cells for which request.predicted_wall holds, and cells within
 // 'seal_cells' of such a cell or of an occupied one, are counted but not passed through
 // (ExploreOptions::wall_seal_cells).
 std::optional<double> CoveredFraction(const OccupancyGrid& grid, const FrontierCluster& cluster,

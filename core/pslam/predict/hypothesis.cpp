@@ -44,4 +44,15 @@ std::vector<HypothesisCell> TakeExplored(Hypothesis& hypothesis, const Occupancy
   return taken;
 }
 
+std::vector<HypothesisCell> TakeDecided(Hypothesis& hypothesis, const OccupancyGrid& map,
+                                        const CellClassifier& classify) {
+  auto& cells = hypothesis.undecided_cells;
+  const auto decided = std::stable_partition(cells.begin(), cells.end(), [&](const HypothesisCell& c) {
+    return classify(map.At(c.cell.x(), c.cell.y())) == CellState::kUncertain;
+  });
+  std::vector<HypothesisCell> taken(decided, cells.end());
+  cells.erase(decided, cells.end());
+  return taken;
+}
+
 }  // namespace pslam

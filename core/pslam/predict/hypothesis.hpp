@@ -36,6 +36,10 @@ struct Hypothesis {
   // Cells that were never observed when the hypothesis was made, each with the state of the
   // aligned reference cell; cells whose reference was unknown or undecided are not predicted.
   std::vector<HypothesisCell> cells;
+  // Cells of S_f observed but still undecided (CellState::kUncertain), each with the aligned
+  // reference's state. The filter's maps already hold evidence there, so they do not weigh the
+  // particles; they count only for exploration (coverage and the merged map) until decided.
+  std::vector<HypothesisCell> undecided_cells;
   Status status = Status::kPending;    // set by the caller
   double hit_ratio = std::numeric_limits<double>::quiet_NaN();     // eq. 23, filled by the caller
   double psi_observed = std::numeric_limits<double>::quiet_NaN();  // ObservedSimilarity, by the caller
@@ -56,5 +60,8 @@ double ObservedSimilarity(const Hypothesis& hypothesis, const OccupancyGrid& lat
 // but OccupancyGrid::kUnknown) out of the hypothesis, so that it only ever speaks for unexplored
 // space, and returns them.
 std::vector<HypothesisCell> TakeExplored(Hypothesis& hypothesis, const OccupancyGrid& map);
+// Likewise for undecided_cells: takes out those 'map' has since decided, and returns them.
+std::vector<HypothesisCell> TakeDecided(Hypothesis& hypothesis, const OccupancyGrid& map,
+                                        const CellClassifier& classify);
 
 }  // namespace pslam

@@ -15,8 +15,9 @@ namespace pslam {
 // - kUnknown (grid value OccupancyGrid::kUnknown) is unexplored. Only such cells may receive a
 //   prediction, and they are left out of the similarity measure.
 // - kUncertain was observed, but its probability lies between the thresholds (a fringe cell seen
-//   by one or two beams). It is explored, so it is never predicted over, but it counts as "not
-//   occupied", as an unknown cell does for eq. 3-5.
+//   by one or two beams). It is explored for the filter, so its evidence is never predicted over,
+//   and it counts as "not occupied", as an unknown cell does for eq. 3-5. For exploration it is
+//   still unexplored: a hypothesis predicts it apart (Hypothesis::undecided_cells).
 enum class CellState : std::uint8_t { kUnknown = 0, kUncertain = 1, kFree = 2, kOccupied = 3 };
 
 inline bool IsExplored(CellState s) { return s != CellState::kUnknown; }

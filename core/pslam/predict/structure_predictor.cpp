@@ -288,10 +288,12 @@ std::optional<Hypothesis> StructurePredictor::Run(const OccupancyGrid& map, cons
   Hypothesis h;
   for (int y = 0; y < target_raster.height; ++y) {
     for (int x = 0; x < target_raster.width; ++x) {
-      if (target_raster.Local(x, y) != CellState::kUnknown) continue;
+      const CellState target_state = target_raster.Local(x, y);
+      if (target_state != CellState::kUnknown && target_state != CellState::kUncertain) continue;
       const CellState predicted = best_aligned->Local(x, y);
       if (predicted != CellState::kOccupied && predicted != CellState::kFree) continue;
-      h.cells.push_back({target_box.min + Eigen::Vector2i(x, y), predicted == CellState::kOccupied});
+      const HypothesisCell cell{target_box.min + Eigen::Vector2i(x, y), predicted == CellState::kOccupied};
+      (target_state == CellState::kUnknown ? h.cells : h.undecided_cells).push_back(cell);
     }
   }
   report_.search_ms = MsSince(search_start);

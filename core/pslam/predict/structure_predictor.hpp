@@ -13,7 +13,8 @@
 //      (eq. 2, alignment.hpp) and evaluate Psi over the explored part of S_f (eq. 3-5,
 //      region_matcher.hpp); refine the best few alignments locally.
 //   5. The best alignment with Psi >= similarity_threshold yields a hypothesis: the aligned
-//      reference states written into the cells of S_f that were never observed (section III-C).
+//      reference states written into the cells of S_f that were never observed (section III-C),
+//      and apart into those observed but undecided, for exploration only.
 //
 // Bound on the work per prediction, whatever the size of the map: feature extraction on a window
 // of at most (2 (search_radius_m + region_size_m / sqrt(2) + control_point_range_m) / resolution)^2

@@ -1,5 +1,5 @@
 #pragma once
-// Which unknown cells the accepted hypotheses cover, and which of them they predict as walls:
+// Which unknown or undecided cells the accepted hypotheses cover, and which of them they predict as walls:
 // what skip-predicted exploration asks (PSlam::IsCovered, PSlam::IsPredictedWall).
 //
 // Hypotheses overlap (each new target predicts a 10 m square around it), so a cell counts the

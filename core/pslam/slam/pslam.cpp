@@ -38,7 +38,10 @@ const char* StatusName(Hypothesis::Status status) {
 }
 
 PSlam::PSlam(const PSlamOptions& options)
-    : options_(options), filter_(options.filter), coverage_(options.filter.resolution) {
+    : options_(options),
+      filter_(options.filter),
+      classify_(options.predictor.states),
+      coverage_(options.filter.resolution) {
   if (!options_.predict) options_.filter.use_predictions = false;
   if (options_.predict) predictor_ = std::make_unique<AsyncPredictor>(options_.predictor);
 }
@@ -105,6 +108,7 @@ void PSlam::TakePrediction(double time) {
   if (h->cells.empty()) return;
   filter_.AddHypothesis(ToPredictedCells(*h));
   coverage_.Add(h->cells);
+  coverage_.Add(h->undecided_cells);
   ++stats_.hypotheses;
   originals_.push_back(*h);
   hypotheses_.push_back(std::move(*h));
@@ -123,7 +127,10 @@ void PSlam::SetStatus(std::size_t i, Hypothesis::Status status, double time) {
   if (status == Hypothesis::Status::kExpired) ++stats_.expired;
   // A refuted or expired prediction must not weigh the particles any more.
   if (Weighing(before) && !Weighing(status)) filter_.RemoveHypothesis(ToPredictedCells(h));
-  if (Covering(before) && !Covering(status)) coverage_.Remove(h.cells);
+  if (Covering(before) && !Covering(status)) {
+    coverage_.Remove(h.cells);
+    coverage_.Remove(h.undecided_cells);
+  }
 }
 
 void PSlam::JudgeHypotheses(const RbpfStep& step, double time, std::vector<int>& changed) {
@@ -133,6 +140,7 @@ void PSlam::JudgeHypotheses(const RbpfStep& step, double time, std::vector<int>&
     if (!Covering(h.status)) continue;
     const std::vector<HypothesisCell> seen = TakeExplored(h, map);
     coverage_.Remove(seen);
+    coverage_.Remove(TakeDecided(h, map, classify_));
     // Confirmed hypotheses are settled; expired ones are judged again if the robot comes back,
     // so that only an observation that contradicts them withdraws their coverage.
     if (h.status == Hypothesis::Status::kConfirmed) continue;
@@ -172,6 +180,11 @@ OccupancyGrid PSlam::MergedMap() const {
     if (!Covering(h.status)) continue;
     for (const HypothesisCell& c : h.cells) {
       if (!merged.IsKnown(c.cell.x(), c.cell.y())) {
+        merged.MutableAt(c.cell.x(), c.cell.y()) = c.occupied ? kPredictedOccupied : kPredictedFree;
+      }
+    }
+    for (const HypothesisCell& c : h.undecided_cells) {
+      if (classify_(merged.At(c.cell.x(), c.cell.y())) == CellState::kUncertain) {
         merged.MutableAt(c.cell.x(), c.cell.y()) = c.occupied ? kPredictedOccupied : kPredictedFree;
       }
     }

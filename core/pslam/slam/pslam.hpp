@@ -59,15 +59,16 @@ class PSlam {
   const std::vector<Hypothesis>& hypotheses() const { return hypotheses_; }
   const std::vector<HypothesisEvent>& history() const { return history_; }
   PSlamStats stats() const;
-  // Whether an unknown cell of the best map is covered by a hypothesis that was not refuted
-  // (pending, confirmed or expired): what skip-predicted exploration asks.
+  // Whether an unknown or undecided cell of the best map is covered by a hypothesis that was not
+  // refuted (pending, confirmed or expired): what skip-predicted exploration asks.
   bool IsCovered(const Eigen::Vector2i& cell) const;
   // Whether such a hypothesis predicts a wall there: the space behind it is not the frontier's.
   bool IsPredictedWall(const Eigen::Vector2i& cell) const;
   // The covered cells and predicted walls, for planning on a snapshot off this thread (copying
   // shares the tiles).
   const PredictionCoverage& coverage() const { return coverage_; }
-  // The best map with the cells of the hypotheses that were not refuted written into unknown cells.
+  // The best map with the cells of the hypotheses that were not refuted written into unknown
+  // cells, and into undecided ones (Hypothesis::undecided_cells).
   OccupancyGrid MergedMap() const;
   // Psi of every hypothesis against the current best map, over all of its original cells observed
   // so far (psi_observed), for reports at the end of a run.
@@ -88,7 +89,8 @@ class PSlam {
   std::vector<Hypothesis> originals_;    // as generated, for Psi against the observation
   std::vector<double> last_observed_;    // time a cell of each hypothesis was last observed
   std::vector<HypothesisEvent> history_;
-  PredictionCoverage coverage_;          // unobserved cells of hypotheses not refuted, best frame
+  CellClassifier classify_;              // the predictor's cell states
+  PredictionCoverage coverage_;          // undecided cells of hypotheses not refuted, best frame
   std::optional<Eigen::Vector2i> target_;
   std::optional<Eigen::Vector2i> predicted_target_;  // target of the last prediction requested
   Eigen::Vector2d target_set_at_ = Eigen::Vector2d::Zero();

@@ -15,6 +15,8 @@ PlanResult Plan(const PlanRequest& request) {
   explore.predicted_wall = [&coverage = request.coverage](const Eigen::Vector2i& cell) {
     return coverage.PredictedWall(cell);
   };
+  // Covered cells the map observed but has not decided count as predicted, not as undecided.
+  explore.predicted = explore.covered;
   PlanResult result;
   result.pose = request.pose;
   result.time = request.time;
