@@ -1,6 +1,6 @@
 #pragma once
-// Which unknown or undecided cells the accepted hypotheses cover, and which of them they predict as walls:
-// what skip-predicted exploration asks (PSlam::IsCovered, PSlam::IsPredictedWall).
+// Which unknown or undecided cells the accepted hypotheses cover, and which of them they predict
+// as walls: what skip-predicted exploration asks (PSlam::IsCovered, PSlam::IsPredictedWall).
 //
 // Hypotheses overlap (each new target predicts a 10 m square around it), so a cell counts the
 // hypotheses covering it: withdrawing one hypothesis must not uncover cells another still covers.

@@ -90,7 +90,7 @@ class PSlam {
   std::vector<double> last_observed_;    // time a cell of each hypothesis was last observed
   std::vector<HypothesisEvent> history_;
   CellClassifier classify_;              // the predictor's cell states
-  PredictionCoverage coverage_;          // undecided cells of hypotheses not refuted, best frame
+  PredictionCoverage coverage_;          // unknown and undecided cells of hypotheses not refuted, best frame
   std::optional<Eigen::Vector2i> target_;
   std::optional<Eigen::Vector2i> predicted_target_;  // target of the last prediction requested
   Eigen::Vector2d target_set_at_ = Eigen::Vector2d::Zero();
