@@ -40,7 +40,8 @@ std::vector<HypothesisCell> MergedPredictedCells(const PSlam& slam, const std::f
     for (const HypothesisCell& c : h.cells) {
       if (!map.IsKnown(c.cell.x(), c.cell.y())) unexplored.push_back(c);
     }
-    // PSlam drops undecided cells as the map decides them: those left are still predicted.
+    // PSlam drops undecided cells the map has decided at each filter update: those left are
+    // predicted still (a cell decided since the last update can be among them).
     unexplored.insert(unexplored.end(), h.undecided_cells.begin(), h.undecided_cells.end());
     if (to_reference) unexplored = TransformCells(unexplored, to_reference(h.id), map.resolution());
     for (const HypothesisCell& c : unexplored) {

@@ -6,6 +6,18 @@
 #include "pslam/predict/similarity.hpp"
 
 namespace pslam {
+namespace {
+
+// Moves the cells for which 'still' is false out of 'cells' (keeping the order of both parts).
+template <typename Still>
+std::vector<HypothesisCell> TakeUnless(std::vector<HypothesisCell>& cells, Still still) {
+  const auto gone = std::stable_partition(cells.begin(), cells.end(), still);
+  std::vector<HypothesisCell> taken(gone, cells.end());
+  cells.erase(gone, cells.end());
+  return taken;
+}
+
+}  // namespace
 
 Pose2D ReferenceToTarget(const Hypothesis& hypothesis) {
   return AlignmentTransform(hypothesis.target_control_point, hypothesis.reference_control_point, hypothesis.theta);
@@ -35,24 +47,14 @@ double ObservedSimilarity(const Hypothesis& hypothesis, const OccupancyGrid& lat
 }
 
 std::vector<HypothesisCell> TakeExplored(Hypothesis& hypothesis, const OccupancyGrid& map) {
-  auto& cells = hypothesis.cells;
-  const auto seen = std::stable_partition(cells.begin(), cells.end(), [&](const HypothesisCell& c) {
-    return !map.IsKnown(c.cell.x(), c.cell.y());
-  });
-  std::vector<HypothesisCell> taken(seen, cells.end());
-  cells.erase(seen, cells.end());
-  return taken;
+  return TakeUnless(hypothesis.cells, [&](const HypothesisCell& c) { return !map.IsKnown(c.cell.x(), c.cell.y()); });
 }
 
 std::vector<HypothesisCell> TakeDecided(Hypothesis& hypothesis, const OccupancyGrid& map,
                                         const CellClassifier& classify) {
-  auto& cells = hypothesis.undecided_cells;
-  const auto decided = std::stable_partition(cells.begin(), cells.end(), [&](const HypothesisCell& c) {
+  return TakeUnless(hypothesis.undecided_cells, [&](const HypothesisCell& c) {
     return classify(map.At(c.cell.x(), c.cell.y())) == CellState::kUncertain;
   });
-  std::vector<HypothesisCell> taken(decided, cells.end());
-  cells.erase(decided, cells.end());
-  return taken;
 }
 
 }  // namespace pslam

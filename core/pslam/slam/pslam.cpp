@@ -176,17 +176,16 @@ bool PSlam::IsPredictedWall(const Eigen::Vector2i& cell) const { return coverage
 
 OccupancyGrid PSlam::MergedMap() const {
   OccupancyGrid merged = filter_.best().map;
+  const auto write = [&merged](const HypothesisCell& c) {
+    merged.MutableAt(c.cell.x(), c.cell.y()) = c.occupied ? kPredictedOccupied : kPredictedFree;
+  };
   for (const Hypothesis& h : hypotheses_) {
     if (!Covering(h.status)) continue;
     for (const HypothesisCell& c : h.cells) {
-      if (!merged.IsKnown(c.cell.x(), c.cell.y())) {
-        merged.MutableAt(c.cell.x(), c.cell.y()) = c.occupied ? kPredictedOccupied : kPredictedFree;
-      }
+      if (!merged.IsKnown(c.cell.x(), c.cell.y())) write(c);
     }
     for (const HypothesisCell& c : h.undecided_cells) {
-      if (classify_(merged.At(c.cell.x(), c.cell.y())) == CellState::kUncertain) {
-        merged.MutableAt(c.cell.x(), c.cell.y()) = c.occupied ? kPredictedOccupied : kPredictedFree;
-      }
+      if (classify_(merged.At(c.cell.x(), c.cell.y())) == CellState::kUncertain) write(c);
     }
   }
   return merged;
