@@ -1,5 +1,5 @@
 // Judging a hypothesis against what was observed of it: not before its observed part holds enough
-// structure to score, then by Psi.
+// structure to score, then by Psi, with a second look a few cells over before a refutation.
 #include <gtest/gtest.h>
 
 #include "pslam/slam/hypothesis_judge.hpp"
@@ -45,6 +45,25 @@ TEST(HypothesisJudgeTest, EvidenceCountsObservedWallsOnBothSides) {
 TEST(HypothesisJudgeTest, RightPredictionIsConfirmedWrongOneRefuted) {
   EXPECT_EQ(JudgeAfter(120, 0), Verdict::kConfirmed);
   EXPECT_EQ(JudgeAfter(120, 20), Verdict::kRefuted);
+}
+
+TEST(HypothesisJudgeTest, AMapMovedByAFewCellsDoesNotRefuteARightPrediction) {
+  // The predicted wall is there, two cells (10 cm) from where the hypothesis drew it: beyond Psi's
+  // one-cell tolerance, within the second look's 15 cm.
+  const Hypothesis h = WallAlongX();
+  const OccupancyGrid moved = Observed(120, 2);
+  const ObservedEvidence e = GatherEvidence(h, moved, {}, 1);
+  EXPECT_DOUBLE_EQ(e.psi, 0.0);
+  EXPECT_EQ(Judge(e, HypothesisJudgeOptions{}), Verdict::kRefuted);
+  EXPECT_DOUBLE_EQ(RegisteredSimilarity(h, moved, {}, 1, 3), 1.0);
+  EXPECT_EQ(JudgeOnMap(h, e, moved, {}, 1, HypothesisJudgeOptions{}), Verdict::kConfirmed);
+  HypothesisJudgeOptions no_second_look;
+  no_second_look.registration_m = 0.0;
+  EXPECT_EQ(JudgeOnMap(h, e, moved, {}, 1, no_second_look), Verdict::kRefuted);
+  // A wall 1 m off is another structure, not a moved map.
+  const OccupancyGrid elsewhere = Observed(120, 20);
+  EXPECT_EQ(JudgeOnMap(h, GatherEvidence(h, elsewhere, {}, 1), elsewhere, {}, 1, HypothesisJudgeOptions{}),
+            Verdict::kRefuted);
 }
 
 TEST(HypothesisJudgeTest, NotJudgedBeforeEnoughIsSeen) {

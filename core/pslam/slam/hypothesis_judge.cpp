@@ -35,4 +35,31 @@ Verdict Judge(const ObservedEvidence& e, const HypothesisJudgeOptions& options) 
   return e.psi >= options.confirm_psi ? Verdict::kConfirmed : Verdict::kRefuted;
 }
 
+double RegisteredSimilarity(const Hypothesis& original, const OccupancyGrid& map,
+                            const CellStateThresholds& thresholds, int tolerance_cells, int reach_cells) {
+  double best = ObservedSimilarity(original, map, thresholds, tolerance_cells);
+  Hypothesis moved = original;
+  for (int dy = -reach_cells; dy <= reach_cells; ++dy) {
+    for (int dx = -reach_cells; dx <= reach_cells; ++dx) {
+      if (dx == 0 && dy == 0) continue;
+      for (std::size_t i = 0; i < moved.cells.size(); ++i) {
+        moved.cells[i].cell = original.cells[i].cell + Eigen::Vector2i(dx, dy);
+      }
+      const double psi = ObservedSimilarity(moved, map, thresholds, tolerance_cells);
+      if (std::isfinite(psi) && !(psi <= best)) best = psi;  // also replaces a NaN best
+    }
+  }
+  return best;
+}
+
+Verdict JudgeOnMap(const Hypothesis& original, const ObservedEvidence& evidence, const OccupancyGrid& map,
+                   const CellStateThresholds& thresholds, int tolerance_cells, const HypothesisJudgeOptions& options) {
+  const Verdict verdict = Judge(evidence, options);
+  const int reach = static_cast<int>(std::floor(options.registration_m / map.resolution() + 1e-9));
+  if (verdict != Verdict::kRefuted || reach <= 0) return verdict;
+  ObservedEvidence registered = evidence;
+  registered.psi = RegisteredSimilarity(original, map, thresholds, tolerance_cells, reach);
+  return Judge(registered, options);
+}
+
 }  // namespace pslam

@@ -6,7 +6,9 @@
 // verdict disagreed with the truth for half of the hypotheses. So a hypothesis is judged only
 // once enough of it has been seen (share of its cells) and that part holds enough structure to
 // score: the predictor's own bar for S_f (min_structure_m), taken on whichever side has more
-// walls there, so that predicted walls the laser finds missing still refute it.
+// walls there, so that predicted walls the laser finds missing still refute it. Before a
+// refutation, a second look allows for the map having moved since the prediction
+// (HypothesisJudgeOptions::registration_m).
 #include "pslam/grid/occupancy_grid.hpp"
 #include "pslam/predict/hypothesis.hpp"
 #include "pslam/predict/map_raster.hpp"
@@ -28,5 +30,15 @@ ObservedEvidence GatherEvidence(const Hypothesis& original, const OccupancyGrid&
                                 const CellStateThresholds& thresholds, int tolerance_cells);
 
 Verdict Judge(const ObservedEvidence& evidence, const HypothesisJudgeOptions& options);
+
+// The highest ObservedSimilarity of 'original' moved by whole cells, at most 'reach_cells' along
+// each axis (0: ObservedSimilarity itself).
+double RegisteredSimilarity(const Hypothesis& original, const OccupancyGrid& map,
+                            const CellStateThresholds& thresholds, int tolerance_cells, int reach_cells);
+
+// Judge(), with the second look of HypothesisJudgeOptions::registration_m before a refutation.
+// 'evidence' is GatherEvidence(original, map, ...).
+Verdict JudgeOnMap(const Hypothesis& original, const ObservedEvidence& evidence, const OccupancyGrid& map,
+                   const CellStateThresholds& thresholds, int tolerance_cells, const HypothesisJudgeOptions& options);
 
 }  // namespace pslam

@@ -160,7 +160,8 @@ void PSlam::JudgeHypotheses(const RbpfStep& step, double time, std::vector<int>&
     const ObservedEvidence evidence =
         GatherEvidence(originals_[i], map, options_.predictor.states, options_.predictor.tolerance_cells);
     h.psi_observed = evidence.psi;
-    const Verdict verdict = Judge(evidence, options_.judge);
+    const Verdict verdict = JudgeOnMap(originals_[i], evidence, map, options_.predictor.states,
+                                       options_.predictor.tolerance_cells, options_.judge);
     if (verdict == Verdict::kRefuted) SetStatus(i, Hypothesis::Status::kRefuted, time);
     // An expired hypothesis that turns out right stays out of the weights: it is settled.
     if (verdict == Verdict::kConfirmed && h.status == Hypothesis::Status::kPending) {
