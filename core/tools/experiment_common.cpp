@@ -127,6 +127,20 @@ std::vector<std::vector<HypothesisCell>> AcceptedCellsInWorld(const ExplorationR
   return out;
 }
 
+JudgeAgreement CountJudgedAsTruth(const ExplorationRun& run, const std::vector<double>& psi_truth) {
+  JudgeAgreement agreement;
+  // P-SLAM keeps its hypotheses in acceptance order, like accepted_hypotheses().
+  const std::vector<Hypothesis>& judged = run.slam().hypotheses();
+  for (std::size_t i = 0; i < judged.size() && i < psi_truth.size(); ++i) {
+    const bool confirmed = judged[i].status == Hypothesis::Status::kConfirmed;
+    if (!confirmed && judged[i].status != Hypothesis::Status::kRefuted) continue;
+    if (!std::isfinite(psi_truth[i])) continue;
+    ++agreement.judged;
+    agreement.as_truth += confirmed == (psi_truth[i] >= run.options().slam.judge.confirm_psi);
+  }
+  return agreement;
+}
+
 Pose2D AcceptedMapToWorld(const ExplorationRun& run, int id) {
   for (std::size_t i = 0; i < run.accepted_hypotheses().size(); ++i) {
     if (run.accepted_hypotheses()[i].id == id) return run.accepted_map_to_world()[i];

@@ -61,6 +61,15 @@ bool ProgressWanted(CliArgs& cli);
 std::vector<std::vector<HypothesisCell>> AcceptedCellsInWorld(const ExplorationRun& run);
 Pose2D AcceptedMapToWorld(const ExplorationRun& run, int id);
 
+// How often P-SLAM's judge agrees with the true world: of the hypotheses it confirmed or refuted
+// (and that the truth scores), those whose verdict matches Psi vs truth >= confirm_psi.
+// 'psi_truth' holds one value per accepted hypothesis, in acceptance order.
+struct JudgeAgreement {
+  int judged = 0;
+  int as_truth = 0;
+};
+JudgeAgreement CountJudgedAsTruth(const ExplorationRun& run, const std::vector<double>& psi_truth);
+
 // Runs an exploration to its end with a progress line labelled 'label'.
 ExplorationSummary RunExplorationWithProgress(ExplorationRun& run, const std::string& label, ProgressLine& progress);
 

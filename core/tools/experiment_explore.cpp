@@ -112,15 +112,9 @@ ExploreRow RunOne(const std::string& name, const WorldChoice& world, const Occup
   row.summary = RunExplorationWithProgress(run, name + " seed " + std::to_string(row.seed), progress);
   row.map_psi = BuiltMapSimilarity(run.slam().filter().best().map, truth);
   for (const auto& cells : AcceptedCellsInWorld(run)) row.psi_truth.push_back(PredictionSimilarity(cells, truth));
-  // P-SLAM keeps its hypotheses in acceptance order, like accepted_hypotheses().
-  const std::vector<Hypothesis>& judged = run.slam().hypotheses();
-  for (std::size_t i = 0; i < judged.size() && i < row.psi_truth.size(); ++i) {
-    const bool confirmed = judged[i].status == Hypothesis::Status::kConfirmed;
-    if (!confirmed && judged[i].status != Hypothesis::Status::kRefuted) continue;
-    if (!std::isfinite(row.psi_truth[i])) continue;
-    ++row.judged;
-    row.judged_as_truth += confirmed == (row.psi_truth[i] >= options.slam.judge.confirm_psi);
-  }
+  const JudgeAgreement agreement = CountJudgedAsTruth(run, row.psi_truth);
+  row.judged = agreement.judged;
+  row.judged_as_truth = agreement.as_truth;
   std::vector<HypothesisCell> merged;
   if (options.slam.predict) {
     merged = MergedPredictedCells(run.slam(), [&run](int id) { return AcceptedMapToWorld(run, id); });

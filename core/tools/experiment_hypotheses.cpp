@@ -109,6 +109,7 @@ int RunHypothesesExperiment(CliArgs& cli) {
     const double covered_area = KnownArea(built);
     const double fraction = covered_area > 0.0 ? predicted_area / covered_area : 0.0;
     const PsiSummary final_summary = Summarize(psi_final), truth_summary = Summarize(psi_truth);
+    const JudgeAgreement agreement = CountJudgedAsTruth(run, psi_truth);
 
     std::printf("world %s, start (%.2f, %.2f, %.3f), seed %llu, %d particles, similarity threshold %.2f, %s coverage\n",
                 world->path.c_str(), world->start.x, world->start.y, world->start.theta,
@@ -122,6 +123,8 @@ int RunHypothesesExperiment(CliArgs& cli) {
                 summary.hypotheses, summary.slam.confirmed, summary.slam.refuted, summary.slam.expired,
                 summary.slam.predictions_made, static_cast<unsigned long long>(summary.slam.outcomes.below_threshold),
                 static_cast<unsigned long long>(summary.slam.outcomes.ambiguous));
+    std::printf("judge vs true world      %d of %d confirmed/refuted hypotheses agree with Psi vs truth >= %.2f\n",
+                agreement.as_truth, agreement.judged, options.slam.judge.confirm_psi);
     std::printf("predicted / covered area %.1f m^2 / %.1f m^2 = %.1f %%  (paper: 605.76 / ~2000 m^2 = 30 %%); "
                 "summed over hypotheses %.1f m^2\n",
                 predicted_area, covered_area, 100.0 * fraction, summed_area);
@@ -160,6 +163,8 @@ int RunHypothesesExperiment(CliArgs& cli) {
                                 {"confirmed", JsonNumber(summary.slam.confirmed)},
                                 {"refuted", JsonNumber(summary.slam.refuted)},
                                 {"expired", JsonNumber(summary.slam.expired)},
+                                {"judged", JsonNumber(agreement.judged)},
+                                {"judged_as_truth", JsonNumber(agreement.as_truth)},
                                 {"predictions", JsonNumber(summary.slam.predictions_made)},
                                 {"ambiguous", JsonNumber(static_cast<double>(summary.slam.outcomes.ambiguous))},
                                 {"predicted_area_m2", JsonNumber(predicted_area)},
