@@ -2,7 +2,9 @@
 // predictor, explorer, follower): what must hold at every step, and what a short run must achieve.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -127,29 +129,50 @@ TEST_F(MazeRunTest, HypothesesOnlyEverCoverUnexploredCellsAndSomeMatchTheTruth) 
   EXPECT_LT(summary.mean_position_error_m, 0.3);
 }
 
+// Whether a wall lies within 'reach' cells of the control point P1 of accepted hypothesis 'index':
+// one the best map has observed, and one predicted by an earlier accepted hypothesis for which
+// 'counts' holds (as P-SLAM holds it now).
+struct WallsNearP1 {
+  bool observed = false;
+  bool predicted = false;
+};
+WallsNearP1 WallsNearControlPoint(const ExplorationRun& run, std::size_t index,
+                                  const std::function<bool(const Hypothesis&)>& counts, int reach = 3) {
+  const OccupancyGrid& best = run.slam().filter().best().map;
+  OccupancyGrid predicted_walls(best.resolution());
+  for (std::size_t j = 0; j < index; ++j) {
+    if (!counts(run.slam().hypotheses()[j])) continue;
+    for (const HypothesisCell& c : run.accepted_hypotheses()[j].cells) {
+      if (c.occupied) predicted_walls.MutableAt(c.cell.x(), c.cell.y()) = 0;
+    }
+  }
+  WallsNearP1 near;
+  const Eigen::Vector2i p1 = best.WorldToCell(run.accepted_hypotheses()[index].target_control_point);
+  for (int dy = -reach; dy <= reach; ++dy) {
+    for (int dx = -reach; dx <= reach; ++dx) {
+      const Eigen::Vector2i c = p1 + Eigen::Vector2i(dx, dy);
+      near.observed = near.observed || (best.IsKnown(c.x(), c.y()) && best.Probability(c.x(), c.y()) > 0.5f);
+      near.predicted = near.predicted || predicted_walls.IsKnown(c.x(), c.y());
+    }
+  }
+  return near;
+}
+
 // Steps 'run' until it has accepted a hypothesis predicted from predicted structure, or is done:
-// one whose control point P1 has no observed wall within 'reach' cells but stands on a wall an
-// earlier hypothesis predicted. Returns how many it accepted.
-int StepUntilAChainedPrediction(ExplorationRun& run, int reach = 3) {
-  OccupancyGrid predicted_walls(run.slam().options().filter.resolution);
+// one whose P1 has no observed wall near it but a wall that an earlier hypothesis for which
+// 'counts' holds predicted, and none that the others predicted. Returns how many it accepted.
+int StepUntilAChainedPrediction(ExplorationRun& run,
+                                const std::function<bool(const Hypothesis&)>& counts = [](const Hypothesis&) {
+                                  return true;
+                                }) {
+  const auto others = [&counts](const Hypothesis& h) { return !counts(h); };
   std::size_t seen = 0;
   while (!run.done()) {
     run.Step();
-    const OccupancyGrid& best = run.slam().filter().best().map;
     for (; seen < run.accepted_hypotheses().size(); ++seen) {
-      const Hypothesis& h = run.accepted_hypotheses()[seen];
-      const Eigen::Vector2i p1 = best.WorldToCell(h.target_control_point);
-      bool observed_wall = false, predicted_wall = false;
-      for (int dy = -reach; dy <= reach; ++dy) {
-        for (int dx = -reach; dx <= reach; ++dx) {
-          const Eigen::Vector2i c = p1 + Eigen::Vector2i(dx, dy);
-          observed_wall = observed_wall || (best.IsKnown(c.x(), c.y()) && best.Probability(c.x(), c.y()) > 0.5f);
-          predicted_wall = predicted_wall || predicted_walls.IsKnown(c.x(), c.y());
-        }
-      }
-      if (!observed_wall && predicted_wall) return static_cast<int>(seen) + 1;
-      for (const HypothesisCell& c : h.cells) {
-        if (c.occupied) predicted_walls.MutableAt(c.cell.x(), c.cell.y()) = 0;
+      const WallsNearP1 near = WallsNearControlPoint(run, seen, counts);
+      if (!near.observed && near.predicted && !WallsNearControlPoint(run, seen, others).predicted) {
+        return static_cast<int>(seen) + 1;
       }
     }
   }
@@ -171,6 +194,25 @@ TEST_F(MazeRunTest, PredictionsCarryOnFromPredictedWallsWhenPlanningOnTheMergedM
   ASSERT_FALSE(on_built.slam().options().predict_on_merged_map);
   EXPECT_EQ(StepUntilAChainedPrediction(on_built), -1);
   EXPECT_FALSE(on_built.accepted_hypotheses().empty());
+}
+
+// ... but not from a hypothesis below predict_from_psi that observation has not confirmed.
+TEST_F(MazeRunTest, PredictionsDoNotBuildOnWeakHypotheses) {
+  ExplorationOptions options = ShortRunOptions(ExploreMode::kSkipPredicted, 400.0);
+  options.slam.filter.seed = options.simulator.seed = 6;  // a run that builds on one within 400 s
+  const double bar = options.slam.predict_from_psi;
+  ASSERT_GT(bar, options.slam.predictor.similarity_threshold);
+  const auto weak = [bar](const Hypothesis& h) { return h.psi < bar && h.status != Hypothesis::Status::kConfirmed; };
+  ExplorationRun run(world_, start_, options);
+  EXPECT_EQ(StepUntilAChainedPrediction(run, weak), -1);
+  EXPECT_TRUE(std::any_of(run.accepted_hypotheses().begin(), run.accepted_hypotheses().end(),
+                          [bar](const Hypothesis& h) { return h.psi < bar; }));
+
+  // Without the bar the same run does build on one.
+  ExplorationOptions any = options;
+  any.slam.predict_from_psi = 0.0;
+  ExplorationRun unguarded(world_, start_, any);
+  EXPECT_GT(StepUntilAChainedPrediction(unguarded, weak), 0);
 }
 
 TEST_F(MazeRunTest, SameSeedSameRun) {

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <thread>
+#include <utility>
 
 #include "pslam/slam/heading_target.hpp"
 #include "pslam/slam/hypothesis_judge.hpp"
@@ -72,7 +73,8 @@ void PSlam::SetTarget(const Eigen::Vector2i& cell, double time) {
   if (!predictor_ || filter_.particles().empty()) return;
   // H of eq. 20 works on the best particle's map (copying it copies tile pointers only). A request
   // the busy predictor drops leaves predicted_target_ alone, so the next target asks again.
-  if (predictor_->Request(options_.predict_on_merged_map ? MergedMap() : filter_.best().map, cell, time)) {
+  OccupancyGrid input = options_.predict_on_merged_map ? MergedMap(options_.predict_from_psi) : filter_.best().map;
+  if (predictor_->Request(std::move(input), cell, time)) {
     predicted_target_ = cell;
     ++stats_.new_targets;
   }
@@ -175,13 +177,14 @@ bool PSlam::IsCovered(const Eigen::Vector2i& cell) const { return coverage_.Cove
 
 bool PSlam::IsPredictedWall(const Eigen::Vector2i& cell) const { return coverage_.PredictedWall(cell); }
 
-OccupancyGrid PSlam::MergedMap() const {
+OccupancyGrid PSlam::MergedMap(double min_psi) const {
   OccupancyGrid merged = filter_.best().map;
   const auto write = [&merged](const HypothesisCell& c) {
     merged.MutableAt(c.cell.x(), c.cell.y()) = c.occupied ? kPredictedOccupied : kPredictedFree;
   };
   for (const Hypothesis& h : hypotheses_) {
     if (!Covering(h.status)) continue;
+    if (h.psi < min_psi && h.status != Hypothesis::Status::kConfirmed) continue;
     for (const HypothesisCell& c : h.cells) {
       if (!merged.IsKnown(c.cell.x(), c.cell.y())) write(c);
     }

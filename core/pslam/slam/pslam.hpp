@@ -68,8 +68,9 @@ class PSlam {
   // shares the tiles).
   const PredictionCoverage& coverage() const { return coverage_; }
   // The best map with the cells of the hypotheses that were not refuted written into unknown
-  // cells, and into undecided ones (Hypothesis::undecided_cells).
-  OccupancyGrid MergedMap() const;
+  // cells, and into undecided ones (Hypothesis::undecided_cells); only of those confirmed or with
+  // Psi >= min_psi (what the predictor reads, PSlamOptions::predict_from_psi).
+  OccupancyGrid MergedMap(double min_psi = 0.0) const;
   // Psi of every hypothesis against the current best map, over all of its original cells observed
   // so far (psi_observed), for reports at the end of a run.
   void ScoreHypotheses();
