@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace pslam {
 
@@ -37,8 +38,9 @@ Verdict Judge(const ObservedEvidence& e, const HypothesisJudgeOptions& options) 
 
 double RegisteredSimilarity(const Hypothesis& original, const OccupancyGrid& map,
                             const CellStateThresholds& thresholds, int tolerance_cells, int reach_cells) {
-  double best = ObservedSimilarity(original, map, thresholds, tolerance_cells);
-  Hypothesis moved = original;
+  double best = std::numeric_limits<double>::quiet_NaN();
+  Hypothesis moved;  // ObservedSimilarity reads only the cells
+  moved.cells = original.cells;
   for (int dy = -reach_cells; dy <= reach_cells; ++dy) {
     for (int dx = -reach_cells; dx <= reach_cells; ++dx) {
       if (dx == 0 && dy == 0) continue;
@@ -46,7 +48,7 @@ double RegisteredSimilarity(const Hypothesis& original, const OccupancyGrid& map
         moved.cells[i].cell = original.cells[i].cell + Eigen::Vector2i(dx, dy);
       }
       const double psi = ObservedSimilarity(moved, map, thresholds, tolerance_cells);
-      if (std::isfinite(psi) && !(psi <= best)) best = psi;  // also replaces a NaN best
+      if (std::isnan(best) || psi > best) best = psi;
     }
   }
   return best;
@@ -57,8 +59,11 @@ Verdict JudgeOnMap(const Hypothesis& original, const ObservedEvidence& evidence,
   const Verdict verdict = Judge(evidence, options);
   const int reach = static_cast<int>(std::floor(options.registration_m / map.resolution() + 1e-9));
   if (verdict != Verdict::kRefuted || reach <= 0) return verdict;
+  // evidence.psi is the unshifted Psi; only the shifts are left to try.
+  const double shifted = RegisteredSimilarity(original, map, thresholds, tolerance_cells, reach);
+  if (!(shifted > evidence.psi)) return verdict;
   ObservedEvidence registered = evidence;
-  registered.psi = RegisteredSimilarity(original, map, thresholds, tolerance_cells, reach);
+  registered.psi = shifted;
   return Judge(registered, options);
 }
 

@@ -31,8 +31,8 @@ ObservedEvidence GatherEvidence(const Hypothesis& original, const OccupancyGrid&
 
 Verdict Judge(const ObservedEvidence& evidence, const HypothesisJudgeOptions& options);
 
-// The highest ObservedSimilarity of 'original' moved by whole cells, at most 'reach_cells' along
-// each axis (0: ObservedSimilarity itself).
+// The highest ObservedSimilarity of 'original' moved by a whole-cell shift other than none, of at
+// most 'reach_cells' along each axis; NaN when no such shift reaches an observed cell.
 double RegisteredSimilarity(const Hypothesis& original, const OccupancyGrid& map,
                             const CellStateThresholds& thresholds, int tolerance_cells, int reach_cells);
 
