@@ -48,7 +48,7 @@ void Rbpf::Resample(const std::vector<double>& weights) {
 void Rbpf::Initialize(const LaserScan& scan) {
   const ScanPoints points = ToScanPoints(scan, options_.points);
   Particle first{options_.initial_pose, 0.0, OccupancyGrid(options_.resolution), OccupancyGrid(options_.resolution),
-                 std::make_shared<TrajectoryNode>(TrajectoryNode{options_.initial_pose, 0, nullptr})};
+                 std::make_shared<TrajectoryNode>(TrajectoryNode{options_.initial_pose, 0, nullptr}), {}};
   inserter_.Insert(points, first.pose, first.map);
   particles_.assign(static_cast<std::size_t>(std::max(1, options_.particles)), first);
   odometry_at_update_ = scan.odometry;
@@ -148,29 +148,33 @@ PredictionUse Rbpf::UpdateParticles(const Pose2D& motion, const std::vector<Eige
 }
 
 void Rbpf::ForEachCellInParticles(
-    const std::vector<PredictedCell>& cells,
+    int index, const std::vector<PredictedCell>& cells,
     const std::function<void(Particle&, const Eigen::Vector2i&, const PredictedCell&)>& visit) {
-  if (cells.empty() || particles_.empty()) return;
-  const Pose2D best_inverse = best().pose.inverse();
+  if (cells.empty() || particles_.empty() || index < 0) return;
   pool_.ParallelFor(static_cast<int>(particles_.size()), [&](int i) {
     Particle& p = particles_[static_cast<std::size_t>(i)];
-    const Pose2D to_particle = p.pose * best_inverse;
+    const Pose2D& to_particle = p.hypothesis_frames[static_cast<std::size_t>(index)];
     for (const PredictedCell& c : cells) visit(p, p.map.WorldToCell(to_particle * p.map.CellCenter(c.cell)), c);
   });
 }
 
-void Rbpf::AddHypothesis(const std::vector<PredictedCell>& cells) {
-  if (cells.empty() || particles_.empty()) return;
+int Rbpf::AddHypothesis(const std::vector<PredictedCell>& cells) {
+  if (particles_.empty()) return -1;  // nothing to predict for before the first scan
+  const int index = static_cast<int>(best().hypothesis_frames.size());
+  const Pose2D best_inverse = best().pose.inverse();
+  for (Particle& p : particles_) p.hypothesis_frames.push_back(p.pose * best_inverse);
+  if (cells.empty()) return index;
   constexpr int kOccupied = 3000, kFree = -2000;  // milli log-odds: p = 0.95 and 0.12
-  ForEachCellInParticles(cells, [](Particle& p, const Eigen::Vector2i& cell, const PredictedCell& c) {
+  ForEachCellInParticles(index, cells, [](Particle& p, const Eigen::Vector2i& cell, const PredictedCell& c) {
     if (p.map.IsKnown(cell.x(), cell.y())) return;
     p.hypothesis.MutableAt(cell.x(), cell.y()) = static_cast<OccupancyGrid::Cell>(c.occupied ? kOccupied : kFree);
   });
   has_hypotheses_ = true;
+  return index;
 }
 
-void Rbpf::RemoveHypothesis(const std::vector<PredictedCell>& cells) {
-  ForEachCellInParticles(cells, [](Particle& p, const Eigen::Vector2i& cell, const PredictedCell&) {
+void Rbpf::RemoveHypothesis(int index, const std::vector<PredictedCell>& cells) {
+  ForEachCellInParticles(index, cells, [](Particle& p, const Eigen::Vector2i& cell, const PredictedCell&) {
     p.hypothesis.Forget(cell.x(), cell.y());
   });
 }

@@ -29,6 +29,9 @@ struct Particle {
   OccupancyGrid map;
   OccupancyGrid hypothesis;          // predicted cells not yet observed, in this particle's frame
   std::shared_ptr<const TrajectoryNode> node;
+  // Per hypothesis added (in order), the move of its cells from the best particle's frame at that
+  // time into this particle's (eq. 20); inherited through resampling like the map.
+  std::vector<Pose2D> hypothesis_frames;
 };
 
 // A predicted cell in the best particle's map frame.
@@ -80,9 +83,11 @@ class Rbpf {
   // The hypothesis model H of eq. 20: adds predicted cells, given in the best particle's frame, to
   // every particle's hypothesis map, moved by that particle's pose relative to the best one.
   // Cells a particle has already observed are left out: hypotheses only cover unexplored space.
-  void AddHypothesis(const std::vector<PredictedCell>& cells);
-  // Takes such cells out of every particle's hypothesis map again (a refuted or expired hypothesis).
-  void RemoveHypothesis(const std::vector<PredictedCell>& cells);
+  // Returns the hypothesis's index into Particle::hypothesis_frames (-1 before the first scan).
+  int AddHypothesis(const std::vector<PredictedCell>& cells);
+  // Takes cells of hypothesis 'index' (in the best particle's frame when it was added) out of
+  // every particle's hypothesis map again (a refuted or expired hypothesis).
+  void RemoveHypothesis(int index, const std::vector<PredictedCell>& cells);
 
   // The best particle's pose at every scan added so far: its own poses at updates, and in between
   // the tracked motion, bent so that it meets the next update exactly.
@@ -96,8 +101,8 @@ class Rbpf {
   void SelectBest();
   void Resample(const std::vector<double>& weights);
   // Calls visit(particle, cell, predicted) in parallel for every particle and every predicted
-  // cell, 'cell' being that cell moved from the best particle's frame into the particle's (eq. 20).
-  void ForEachCellInParticles(const std::vector<PredictedCell>& cells,
+  // cell, 'cell' being that cell moved into the particle's frame by hypothesis_frames[index].
+  void ForEachCellInParticles(int index, const std::vector<PredictedCell>& cells,
                               const std::function<void(Particle&, const Eigen::Vector2i&, const PredictedCell&)>& visit);
 
   RbpfOptions options_;

@@ -108,7 +108,7 @@ void PSlam::TakePrediction(double time) {
   if (!h || h->cells.empty()) return;
   TakeExplored(*h, filter_.best().map);  // the map moved on while the predictor worked
   if (h->cells.empty()) return;
-  filter_.AddHypothesis(ToPredictedCells(*h));
+  filter_index_.push_back(filter_.AddHypothesis(ToPredictedCells(*h)));
   coverage_.Add(h->cells);
   coverage_.Add(h->undecided_cells);
   ++stats_.hypotheses;
@@ -128,7 +128,7 @@ void PSlam::SetStatus(std::size_t i, Hypothesis::Status status, double time) {
   if (status == Hypothesis::Status::kRefuted) ++stats_.refuted;
   if (status == Hypothesis::Status::kExpired) ++stats_.expired;
   // A refuted or expired prediction must not weigh the particles any more.
-  if (Weighing(before) && !Weighing(status)) filter_.RemoveHypothesis(ToPredictedCells(h));
+  if (Weighing(before) && !Weighing(status)) filter_.RemoveHypothesis(filter_index_[i], ToPredictedCells(h));
   if (Covering(before) && !Covering(status)) {
     coverage_.Remove(h.cells);
     coverage_.Remove(h.undecided_cells);

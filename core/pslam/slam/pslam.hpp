@@ -89,6 +89,7 @@ class PSlam {
   std::vector<Hypothesis> hypotheses_;   // cells shrink as they are observed
   std::vector<Hypothesis> originals_;    // as generated, for Psi against the observation
   std::vector<double> last_observed_;    // time a cell of each hypothesis was last observed
+  std::vector<int> filter_index_;        // each hypothesis's index in the filter's hypothesis_frames
   std::vector<HypothesisEvent> history_;
   CellClassifier classify_;              // the predictor's cell states
   PredictionCoverage coverage_;          // unknown and undecided cells of hypotheses not refuted, best frame
