@@ -1,5 +1,9 @@
-import { describe, expect, it } from 'vitest';
-import { fileStem, renameYamlImage } from '../src/ui/export';
+import { afterEach, describe, expect, it, vi } from 'vitest';
+import type { Hypothesis } from '../src/net/protocol';
+import { HypothesisStore, packCells } from '../src/state/hypothesis_store';
+import { fileStem, hypothesesJson, renameYamlImage } from '../src/ui/export';
+import type { SessionView } from '../src/ui/session_view';
+import { snapshotMessage } from './fixtures/live';
 import { replayRequest, type ReplayForm } from '../src/ui/replay_dialog';
 import { parseRoute, routeFor } from '../src/ui/route';
 
@@ -17,6 +21,47 @@ describe('exports', () => {
     const yaml = 'image: map.pgm\nresolution: 0.050000\norigin: [-1.0, -2.0, 0.0]\n';
     expect(renameYamlImage(yaml, 'office_run.pgm')).toBe('image: office_run.pgm\nresolution: 0.050000\norigin: [-1.0, -2.0, 0.0]\n');
     expect(renameYamlImage('resolution: 0.05\n', 'm.pgm')).toBe('image: m.pgm\nresolution: 0.05\n');
+  });
+
+  afterEach(() => {
+    vi.useRealTimers();
+    vi.unstubAllGlobals();
+  });
+
+  it('waits for the cells of a hypothesis the server has not stored yet', async () => {
+    const store = new HypothesisStore();
+    const template = snapshotMessage.hypotheses[0] as unknown as Hypothesis;
+    store.applyEvent('added', { ...template, id: 1, cell_count: 1 });
+    store.setCells(1, packCells([[5, 6, 0.9]]));
+    store.applyEvent('added', { ...template, id: 2, cell_count: 2 });
+    const requested: string[] = [];
+    vi.stubGlobal('location', new URL('http://127.0.0.1:8080/'));
+    vi.stubGlobal('sessionStorage', { getItem: () => null, setItem: () => undefined });
+    vi.stubGlobal('fetch', async (url: string) => {
+      requested.push(url);
+      if (requested.length < 3) return new Response(JSON.stringify({ error: { code: 'not_found', message: 'no hypothesis 2' } }), { status: 404 });
+      return new Response(JSON.stringify({ id: 2, cells: [[7, 8, 0.1], [7, 9, 0.95]] }), { status: 200 });
+    });
+    vi.useFakeTimers();
+    const view = { sessionId: 's-1', name: 'live', client: { hypotheses: store, map: { resolution: 0.05 } } };
+    const done = hypothesesJson(view as unknown as SessionView);
+    await vi.advanceTimersByTimeAsync(3500);
+    const json = (await done) as { hypotheses: { id: number; cells: number[][] }[] };
+    expect(requested).toEqual(Array(3).fill('http://127.0.0.1:8080/api/sessions/s-1/hypotheses/2'));
+    expect(json.hypotheses.map((h) => [h.id, h.cells])).toEqual([
+      [1, [[5, 6, 0.9]]],
+      [2, [[7, 8, 0.1], [7, 9, 0.95]]],
+    ]);
+  });
+
+  it('gives up on a hypothesis the server says is not there for good', async () => {
+    const store = new HypothesisStore();
+    store.applyEvent('added', { ...(snapshotMessage.hypotheses[0] as unknown as Hypothesis), id: 3, cell_count: 1 });
+    vi.stubGlobal('location', new URL('http://127.0.0.1:8080/'));
+    vi.stubGlobal('sessionStorage', { getItem: () => null, setItem: () => undefined });
+    vi.stubGlobal('fetch', async () => new Response(JSON.stringify({ error: { code: 'forbidden', message: 'token' } }), { status: 403 }));
+    const view = { sessionId: 's-1', name: 'live', client: { hypotheses: store, map: { resolution: 0.05 } } };
+    await expect(hypothesesJson(view as unknown as SessionView)).rejects.toThrow('token');
   });
 
   it('makes safe file names', () => {

@@ -51,6 +51,12 @@ export class ApiError extends Error {
   }
 }
 
+// A hypothesis is streamed live before the server's next checkpoint stores it, so reading it over
+// REST may answer 404 for a moment; so may a server that is restarting (0) or failing (5xx).
+export function mayAppearLater(e: unknown): boolean {
+  return e instanceof ApiError && (e.status === 404 || e.status === 0 || e.status >= 500);
+}
+
 const kTokenKey = 'pslam.token';
 
 // The viewer token: from ?token= on the page URL (then remembered for the tab), else none.

@@ -1,6 +1,6 @@
 // One session seen live: the socket, the stores it feeds, and the REST look-ups the live stream
 // leaves out (the cells of each hypothesis). No DOM: views subscribe through onChange.
-import { api, ApiError, liveUrl } from './api';
+import { api, liveUrl, mayAppearLater } from './api';
 import { LiveConnection, type ConnectionState } from './connection';
 import { decodeTileFrame, type LiveMessage } from './protocol';
 import { HypothesisStore, packCells } from '../state/hypothesis_store';
@@ -13,8 +13,7 @@ const kMaxErrors = 20;
 // for on resume (by reconnecting), so a long pause costs bounded memory.
 const kMaxPausedMessages = 20000;
 const kCellFetchConcurrency = 3;
-// A hypothesis is streamed live before the server's next checkpoint stores it, so its cells may
-// not be readable over REST yet (404): retry a few times, 1 s, 2 s, 4 s ... apart.
+// Cells not readable yet (see mayAppearLater): retry a few times, 1 s, 2 s, 4 s ... apart.
 const kCellFetchAttempts = 6;
 const kCellRetryMs = 1000;
 
@@ -221,7 +220,7 @@ export class SessionClient {
           if (e.name === 'AbortError') return;
           const attempts = (this.cellAttempts.get(id) ?? 0) + 1;
           this.cellAttempts.set(id, attempts);
-          const retry = (e instanceof ApiError && (e.status === 404 || e.status === 0 || e.status >= 500)) && attempts < kCellFetchAttempts;
+          const retry = mayAppearLater(e) && attempts < kCellFetchAttempts;
           if (retry) {
             this.hypotheses.markRetry(id, true);
             const timer = setTimeout(() => {

@@ -1,8 +1,8 @@
 // Exports of the focused session: the map as PNG and as map_server PGM + YAML (rendered by the
 // server from the full-precision grid), the current view as PNG, and the hypotheses with their
 // predicted cells as JSON.
-import { api, fetchBlob } from '../net/api';
-import { packCells } from '../state/hypothesis_store';
+import { api, fetchBlob, mayAppearLater } from '../net/api';
+import { packCells, type HypothesisCells } from '../state/hypothesis_store';
 import { download } from './dom';
 import type { SessionView } from './session_view';
 
@@ -14,6 +14,10 @@ export function renameYamlImage(yaml: string, image: string): string {
 export function fileStem(name: string): string {
   return name.replace(/[^A-Za-z0-9._-]+/g, '_').replace(/^_+|_+$/g, '').slice(0, 80) || 'map';
 }
+
+const kExportConcurrency = 4;
+const kStoredAttempts = 5;
+const kStoredRetryMs = 1000;
 
 const base = (view: SessionView) => `/api/sessions/${encodeURIComponent(view.sessionId)}`;
 
@@ -34,21 +38,35 @@ export async function exportViewPng(view: SessionView): Promise<void> {
   if (blob) download(blob, `${fileStem(view.name)}-view.png`);
 }
 
-// Every hypothesis of the session with its cells ([x, y, occupancy], grid indices), fetching the
-// cells the viewer has not loaded yet.
-export async function hypothesesJson(view: SessionView): Promise<object> {
-  const store = view.client.hypotheses;
-  const out = [];
-  for (const e of store.entries.values()) {
-    let cells = e.cells;
-    if (!cells && e.h.cell_count > 0) {
-      const full = await api.hypothesis(view.sessionId, e.h.id);
-      cells = packCells(full.cells ?? []);
+// A hypothesis's cells over REST, waiting (1 s, 2 s, 4 s apart) for one the viewer was streamed
+// before the server stored it.
+async function storedCells(view: SessionView, hid: number): Promise<HypothesisCells> {
+  for (let attempt = 0; ; attempt++) {
+    try {
+      return packCells((await api.hypothesis(view.sessionId, hid)).cells ?? []);
+    } catch (e) {
+      if (!mayAppearLater(e) || attempt >= kStoredAttempts - 1) throw e;
+      await new Promise((resolve) => setTimeout(resolve, kStoredRetryMs * 2 ** attempt));
     }
-    const list: [number, number, number][] = [];
-    if (cells) for (let i = 0; i < cells.xs.length; i++) list.push([cells.xs[i], cells.ys[i], Math.round(cells.occupancy[i] * 1000) / 1000]);
-    out.push({ ...e.h, cells: list });
   }
+}
+
+// Every hypothesis of the session with its cells ([x, y, occupancy], grid indices), fetching the
+// cells the viewer has not loaded yet, a few at a time.
+export async function hypothesesJson(view: SessionView): Promise<object> {
+  const entries = [...view.client.hypotheses.entries.values()];
+  const cells = entries.map((e) => e.cells);
+  const missing = entries.flatMap((e, i) => (!e.cells && e.h.cell_count > 0 ? [i] : []));
+  const fetchNext = async (): Promise<void> => {
+    for (let i = missing.shift(); i !== undefined; i = missing.shift()) cells[i] = await storedCells(view, entries[i].h.id);
+  };
+  await Promise.all(Array.from({ length: kExportConcurrency }, fetchNext));
+  const out = entries.map((e, i) => {
+    const c = cells[i];
+    const list: [number, number, number][] = [];
+    if (c) for (let k = 0; k < c.xs.length; k++) list.push([c.xs[k], c.ys[k], Math.round(c.occupancy[k] * 1000) / 1000]);
+    return { ...e.h, cells: list };
+  });
   out.sort((a, b) => a.id - b.id);
   return {
     session_id: view.sessionId,
