@@ -3,8 +3,7 @@
 // predicted; then each hypothesis is scored with Psi (eq. 5) against the final built map, as the
 // paper does, and against the true world, which the paper could not do (each moved into the world
 // frame by the SLAM error at the time it was accepted, so that a later slip of the map does not
-// count against it). A third score allows the final map to have moved by up to the judge's
-// registration_m since the prediction (RegisteredSimilarity): how many misses are drift. The paper had 56 hypotheses covering 30 % of the explored area, 36 of them
+// count against it). The paper had 56 hypotheses covering 30 % of the explored area, 36 of them
 // (64 %) with Psi >= 0.4, mean 0.51.
 #include <cmath>
 #include <cstdio>
@@ -16,7 +15,6 @@
 #include "experiment_common.hpp"
 #include "pslam/experiment/map_similarity.hpp"
 #include "pslam/io/map_io.hpp"
-#include "pslam/slam/hypothesis_judge.hpp"
 
 namespace pslam {
 namespace {
@@ -97,18 +95,13 @@ int RunHypothesesExperiment(CliArgs& cli) {
     // area is that of the union of their cells; the sum of their areas is reported beside it.
     double summed_area = 0.0;
     OccupancyGrid predicted_cells(built.resolution());
-    std::vector<double> psi_final, psi_final_registered, psi_truth, psi_search;
-    const int reach_cells = static_cast<int>(std::floor(options.slam.judge.registration_m / built.resolution() + 1e-9));
+    std::vector<double> psi_final, psi_truth, psi_search;
     const std::vector<std::vector<HypothesisCell>> in_world = AcceptedCellsInWorld(run);
     for (std::size_t i = 0; i < run.accepted_hypotheses().size(); ++i) {
       const Hypothesis& h = run.accepted_hypotheses()[i];
       summed_area += h.area_m2;
       for (const HypothesisCell& c : h.cells) predicted_cells.MutableAt(c.cell.x(), c.cell.y()) = 0;
       psi_final.push_back(PredictionSimilarity(h.cells, built));
-      const double shifted = RegisteredSimilarity(h, built, options.slam.predictor.states,
-                                                  options.slam.predictor.tolerance_cells, reach_cells);
-      psi_final_registered.push_back(std::isnan(psi_final.back()) ? psi_final.back()
-                                                                  : std::max(psi_final.back(), shifted));
       psi_truth.push_back(PredictionSimilarity(in_world[i], truth));
       psi_search.push_back(h.psi);
     }
@@ -116,7 +109,6 @@ int RunHypothesesExperiment(CliArgs& cli) {
     const double covered_area = KnownArea(built);
     const double fraction = covered_area > 0.0 ? predicted_area / covered_area : 0.0;
     const PsiSummary final_summary = Summarize(psi_final), truth_summary = Summarize(psi_truth);
-    const PsiSummary registered_summary = Summarize(psi_final_registered);
     const JudgeAgreement agreement = CountJudgedAsTruth(run, psi_truth);
 
     std::printf("world %s, start (%.2f, %.2f, %.3f), seed %llu, %d particles, similarity threshold %.2f, %s coverage\n",
@@ -143,9 +135,6 @@ int RunHypothesesExperiment(CliArgs& cli) {
                   s.scored ? 100.0 * s.at_least_04 / s.scored : 0.0, s.mean, s.min, s.max);
     };
     row("vs final built map", final_summary);
-    char registered_name[40];
-    std::snprintf(registered_name, sizeof registered_name, "  shifted <= %.2f m", options.slam.judge.registration_m);
-    row(registered_name, registered_summary);
     row("vs true world", truth_summary);
     std::printf("paper (vs final map)   %6d %8d %7.1f%% %6.3f %6.3f %6.3f\n", 56, 36, 64.3, 0.51, 0.10, 0.86);
     std::printf("distribution (Fig. 10)  Psi bin:    ");
@@ -183,11 +172,9 @@ int RunHypothesesExperiment(CliArgs& cli) {
                                 {"covered_area_m2", JsonNumber(covered_area)},
                                 {"predicted_area_fraction", JsonNumber(fraction)},
                                 {"psi_final", JsonArray(psi_final)},
-                                {"psi_final_registered", JsonArray(psi_final_registered)},
                                 {"psi_truth", JsonArray(psi_truth)},
                                 {"psi_search", JsonArray(psi_search)},
                                 {"final", SummaryJson(final_summary)},
-                                {"final_registered", SummaryJson(registered_summary)},
                                 {"truth", SummaryJson(truth_summary)}}));
     }
     return 0;
