@@ -31,11 +31,15 @@ std::vector<HypothesisCell> Column(int x, bool occupied) {
 TEST(ExperimentMetricsTest, PredictionSimilarityFollowsEquationFive) {
   const OccupancyGrid room = Room();
   EXPECT_DOUBLE_EQ(PredictionSimilarity(Column(39, true), room), 1.0);   // the wall, predicted as a wall
-  EXPECT_DOUBLE_EQ(PredictionSimilarity(Column(20, true), room), 0.0);   // a wall where there is none
-  // One cell off is within the tolerance, as long as the true wall is among the predicted cells.
+  // A wall where there is none: only its two end cells lie within a cell of the room's walls.
+  EXPECT_DOUBLE_EQ(PredictionSimilarity(Column(20, true), room), 2.0 / 38.0);
+  // One cell off is within the tolerance, whether the true wall is among the predicted cells or
+  // just outside them (a wall predicted along the edge of what was explored).
   std::vector<HypothesisCell> shifted = Column(38, true);
   for (const HypothesisCell& c : Column(39, false)) shifted.push_back(c);
   EXPECT_DOUBLE_EQ(PredictionSimilarity(shifted, room), 1.0);
+  EXPECT_DOUBLE_EQ(PredictionSimilarity(Column(38, true), room), 1.0);
+  EXPECT_DOUBLE_EQ(PredictionSimilarity(Column(37, true), room), 2.0 / 38.0);  // two cells off
   EXPECT_DOUBLE_EQ(PredictionSimilarity(Column(20, false), room), 0.0);  // free vs free: no structure
   EXPECT_TRUE(std::isnan(PredictionSimilarity(Column(80, true), room)));  // nothing the reference knows
 }

@@ -1,6 +1,8 @@
 #include "pslam/predict/hypothesis.hpp"
 
 #include <algorithm>
+#include <cstdint>
+#include <vector>
 
 #include "pslam/predict/alignment.hpp"
 #include "pslam/predict/similarity.hpp"
@@ -30,20 +32,26 @@ double ObservedSimilarity(const Hypothesis& hypothesis, const OccupancyGrid& lat
     if (later_map.IsKnown(c.cell.x(), c.cell.y())) box.Extend(c.cell);
   }
   if (box.empty()) return std::numeric_limits<double>::quiet_NaN();
-  // Both rasters hold only the cells observed since: the observation plays S_f (its explored
-  // part is exactly those cells), the prediction plays the aligned reference.
+  // The observation plays S_f and the prediction the aligned reference. They are compared over the
+  // hypothesis cells the later map has decided (a cell seen once or twice may still be uncertain,
+  // which is no evidence either way), but each is dilated over all it holds: the later map around
+  // those cells too. Predicted walls mostly run along the edge of what was explored, and a wall
+  // mapped one cell outside the hypothesis is as close as one mapped one cell inside it.
+  const Eigen::Vector2i margin = Eigen::Vector2i::Constant(std::max(0, tolerance_cells));
+  const CellBox wide{box.min - margin, box.max + margin};
   const CellClassifier classify(thresholds);
-  CellRaster observed(box.min, box.width(), box.height());
-  CellRaster predicted(box.min, box.width(), box.height());
+  const CellRaster observed = RasterizeRegion(later_map, wide, classify);
+  CellRaster predicted(wide.min, wide.width(), wide.height());
+  std::vector<std::uint8_t> compared(predicted.cells.size(), 0);
   for (const HypothesisCell& c : hypothesis.cells) {
-    if (!observed.Contains(c.cell)) continue;
-    const CellState state = classify(later_map.At(c.cell.x(), c.cell.y()));
-    if (state != CellState::kOccupied && state != CellState::kFree) continue;  // not decided yet
-    const Eigen::Vector2i local = c.cell - box.min;
-    observed.Local(local.x(), local.y()) = state;
+    if (!predicted.Contains(c.cell)) continue;
+    const Eigen::Vector2i local = c.cell - wide.min;
     predicted.Local(local.x(), local.y()) = c.occupied ? CellState::kOccupied : CellState::kFree;
+    const CellState state = observed.Local(local.x(), local.y());
+    compared[static_cast<std::size_t>(local.y()) * static_cast<std::size_t>(wide.width()) +
+             static_cast<std::size_t>(local.x())] = state == CellState::kOccupied || state == CellState::kFree;
   }
-  return Similarity(observed, predicted, tolerance_cells);
+  return CountOverlap(observed, predicted, tolerance_cells, compared).Psi();
 }
 
 std::vector<HypothesisCell> TakeExplored(Hypothesis& hypothesis, const OccupancyGrid& map) {

@@ -51,8 +51,10 @@ Pose2D ReferenceToTarget(const Hypothesis& hypothesis);
 // Psi (eq. 5, occupied cells only, same tolerance as the search) between the hypothesis and
 // 'later_map' over the hypothesis cells observed since it was made and decided there (occupied or
 // free; a cell seen once or twice may still be uncertain, which is no evidence either way): how
-// right the prediction turned out. NaN when none of its cells has been observed yet; 0 when they have been but neither
-// side has an occupied cell among them. Call it before TakeExplored, which drops those cells.
+// right the prediction turned out. A predicted wall counts as matched by a mapped one within the
+// tolerance also just outside the hypothesis, as in the search. NaN when none of its cells has
+// been observed yet; 0 when they have been but neither side has an occupied cell among them. Call
+// it before TakeExplored, which drops those cells.
 double ObservedSimilarity(const Hypothesis& hypothesis, const OccupancyGrid& later_map,
                           const CellStateThresholds& thresholds = {}, int tolerance_cells = 1);
 

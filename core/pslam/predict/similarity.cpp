@@ -5,7 +5,11 @@
 
 namespace pslam {
 
-OverlapCounts CountOverlap(const CellRaster& target, const CellRaster& aligned, int tolerance_cells) {
+namespace {
+
+template <typename Compared>
+OverlapCounts CountOverlapWhere(const CellRaster& target, const CellRaster& aligned, int tolerance_cells,
+                                Compared compared) {
   if (target.width != aligned.width || target.height != aligned.height) {
     throw std::invalid_argument("CountOverlap: rasters differ in size");
   }
@@ -14,7 +18,7 @@ OverlapCounts CountOverlap(const CellRaster& target, const CellRaster& aligned, 
   const std::vector<std::uint8_t> aligned_near = DilatedOccupancy(aligned, tolerance_cells);
   OverlapCounts counts;
   for (std::size_t i = 0; i < target.cells.size(); ++i) {
-    if (!IsExplored(target.cells[i])) continue;  // only the explored part of S_f is compared
+    if (!compared(i)) continue;
     if (target.cells[i] == CellState::kOccupied) {
       ++counts.target_occupied;
       counts.target_matched += aligned_near[i];
@@ -25,6 +29,20 @@ OverlapCounts CountOverlap(const CellRaster& target, const CellRaster& aligned, 
     }
   }
   return counts;
+}
+
+}  // namespace
+
+OverlapCounts CountOverlap(const CellRaster& target, const CellRaster& aligned, int tolerance_cells) {
+  // Only the explored part of S_f is compared.
+  return CountOverlapWhere(target, aligned, tolerance_cells,
+                           [&](std::size_t i) { return IsExplored(target.cells[i]); });
+}
+
+OverlapCounts CountOverlap(const CellRaster& target, const CellRaster& aligned, int tolerance_cells,
+                           const std::vector<std::uint8_t>& compared) {
+  if (compared.size() != target.cells.size()) throw std::invalid_argument("CountOverlap: mask differs in size");
+  return CountOverlapWhere(target, aligned, tolerance_cells, [&](std::size_t i) { return compared[i] != 0; });
 }
 
 double Similarity(const CellRaster& target, const CellRaster& aligned, int tolerance_cells) {

@@ -18,6 +18,7 @@
 //   exactly. Identical rasters still give 1, and rasters whose occupied cells are more than k
 //   cells apart still give exactly 0.
 #include <cstdint>
+#include <vector>
 
 #include "pslam/predict/map_raster.hpp"
 
@@ -40,6 +41,11 @@ struct OverlapCounts {
 // cells explored in 'target'. Throws std::invalid_argument if the sizes differ or
 // 'tolerance_cells' is negative.
 OverlapCounts CountOverlap(const CellRaster& target, const CellRaster& aligned, int tolerance_cells);
+// As above, over the cells where 'compared' (row-major like the rasters) is non-zero. Both rasters
+// are still dilated over everything they hold, so a cell at the edge of the compared set is matched
+// by one just outside it, as an explored wall of S_f is by a reference wall in its unexplored part.
+OverlapCounts CountOverlap(const CellRaster& target, const CellRaster& aligned, int tolerance_cells,
+                           const std::vector<std::uint8_t>& compared);
 
 // Psi(target, aligned): CountOverlap(...).Psi().
 double Similarity(const CellRaster& target, const CellRaster& aligned, int tolerance_cells = 1);
