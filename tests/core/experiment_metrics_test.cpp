@@ -44,6 +44,28 @@ TEST(ExperimentMetricsTest, PredictionSimilarityFollowsEquationFive) {
   EXPECT_TRUE(std::isnan(PredictionSimilarity(Column(80, true), room)));  // nothing the reference knows
 }
 
+TEST(ExperimentMetricsTest, PooledCellsScoreAsThePapersCoarserGrid) {
+  const OccupancyGrid pooled = PoolGrid(Room(), 2);  // 20 x 20 cells of 0.1 m
+  EXPECT_DOUBLE_EQ(pooled.resolution(), 0.1);
+  EXPECT_GT(pooled.At(19, 7), 0);   // the east wall (fine x = 39) shares a cell with free x = 38
+  EXPECT_LT(pooled.At(18, 7), 0);
+  EXPECT_FALSE(pooled.IsKnown(20, 7));
+  const std::vector<HypothesisCell> column = PoolCells(Column(38, true), 2);
+  ASSERT_EQ(column.size(), 20u);  // fine y = 1..38 pool into y = 0..19
+  EXPECT_EQ(column.front().cell, Eigen::Vector2i(19, 0));
+  const SimilarityOptions exact{CellStateThresholds{}, 0};
+  // One fine cell off the wall is the same coarse cell; two fine cells off is not, but for the two
+  // end cells, which share a coarse cell with the north and south walls.
+  EXPECT_DOUBLE_EQ(PredictionSimilarity(column, pooled, exact), 1.0);
+  EXPECT_DOUBLE_EQ(PredictionSimilarity(PoolCells(Column(36, true), 2), pooled, exact), 4.0 / 22.0);
+  // Negative indices pool downwards, and any occupied cell makes the pooled cell occupied.
+  const std::vector<HypothesisCell> mixed = PoolCells({{{-1, -1}, false}, {{-2, -2}, true}, {{0, 0}, false}}, 2);
+  ASSERT_EQ(mixed.size(), 2u);
+  EXPECT_EQ(mixed[0].cell, Eigen::Vector2i(-1, -1));
+  EXPECT_TRUE(mixed[0].occupied);
+  EXPECT_FALSE(mixed[1].occupied);
+}
+
 TEST(ExperimentMetricsTest, TransformCellsMovesCellCentres) {
   const std::vector<HypothesisCell> cells = Column(38, true);
   const std::vector<HypothesisCell> moved = TransformCells(cells, Pose2D(0.05, 0.0, 0.0), 0.05);

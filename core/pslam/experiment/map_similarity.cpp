@@ -1,6 +1,8 @@
 #include "pslam/experiment/map_similarity.hpp"
 
 #include <cstdint>
+#include <algorithm>
+#include <unordered_map>
 #include <unordered_set>
 
 #include "pslam/grid/cell_key.hpp"
@@ -51,6 +53,42 @@ std::vector<HypothesisCell> MergedPredictedCells(const PSlam& slam, const std::f
     }
   }
   return cells;
+}
+
+namespace {
+
+int FloorDiv(int value, int factor) { return value >= 0 ? value / factor : -((-value + factor - 1) / factor); }
+
+Eigen::Vector2i Pooled(const Eigen::Vector2i& cell, int factor) {
+  return {FloorDiv(cell.x(), factor), FloorDiv(cell.y(), factor)};
+}
+
+}  // namespace
+
+OccupancyGrid PoolGrid(const OccupancyGrid& map, int factor) {
+  OccupancyGrid pooled(map.resolution() * factor);
+  const CellBox box = map.KnownBounds();
+  for (int y = box.min.y(); y <= box.max.y(); ++y) {
+    for (int x = box.min.x(); x <= box.max.x(); ++x) {
+      if (!map.IsKnown(x, y)) continue;
+      const Eigen::Vector2i p = Pooled({x, y}, factor);
+      OccupancyGrid::Cell& cell = pooled.MutableAt(p.x(), p.y());
+      cell = std::max(cell, map.At(x, y));  // kUnknown is the least value: the most occupied wins
+    }
+  }
+  return pooled;
+}
+
+std::vector<HypothesisCell> PoolCells(const std::vector<HypothesisCell>& cells, int factor) {
+  std::unordered_map<std::uint64_t, std::size_t> index;  // pooled cell -> its place in 'out'
+  std::vector<HypothesisCell> out;
+  for (const HypothesisCell& c : cells) {
+    const Eigen::Vector2i p = Pooled(c.cell, factor);
+    const auto [it, added] = index.emplace(CellKey(p), out.size());
+    if (added) out.push_back({p, c.occupied});
+    else out[it->second].occupied = out[it->second].occupied || c.occupied;
+  }
+  return out;
 }
 
 double BuiltMapSimilarity(const OccupancyGrid& built, const OccupancyGrid& reference, const SimilarityOptions& options) {

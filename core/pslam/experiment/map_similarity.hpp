@@ -47,6 +47,12 @@ double BuiltMapSimilarity(const OccupancyGrid& built, const OccupancyGrid& refer
 double MappedOrPredictedFraction(const OccupancyGrid& reference, const OccupancyGrid& built,
                                  const std::vector<HypothesisCell>& predicted);
 
+// The map and predicted cells on cells 'factor' times as large (factor x factor pooled): a pooled
+// cell is occupied if any of its cells is, else free if any is known. Scoring on the paper's 0.1 m
+// cells with tolerance 0 is eq. 5 exactly as the paper took it.
+OccupancyGrid PoolGrid(const OccupancyGrid& map, int factor);
+std::vector<HypothesisCell> PoolCells(const std::vector<HypothesisCell>& cells, int factor);
+
 // Area of the cells a map knows, in square metres.
 double KnownArea(const OccupancyGrid& map);
 
