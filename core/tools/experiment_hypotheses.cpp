@@ -65,7 +65,7 @@ std::string SummaryJson(const PsiSummary& s) {
 }
 
 // Eq. 5 exactly as the paper took it: on its 0.1 m cells (our 5 cm ones pooled 2 x 2), with no
-// tolerance. What our one-cell tolerance gives on 5 cm cells should be about what that gives.
+// tolerance. Our Psi, a one-cell tolerance on 5 cm cells, is the more lenient of the two.
 constexpr double kPaperResolution = 0.1;
 const SimilarityOptions kNoTolerance{CellStateThresholds{}, 0};
 
@@ -100,7 +100,7 @@ int RunHypothesesExperiment(CliArgs& cli) {
     // area is that of the union of their cells; the sum of their areas is reported beside it.
     double summed_area = 0.0;
     OccupancyGrid predicted_cells(built.resolution());
-    std::vector<double> psi_final, psi_final_strict, psi_truth, psi_search;
+    std::vector<double> psi_final, psi_final_paper_cells, psi_truth, psi_search;
     const int pool = std::max(1, static_cast<int>(std::lround(kPaperResolution / built.resolution())));
     const OccupancyGrid pooled_built = PoolGrid(built, pool);
     const std::vector<std::vector<HypothesisCell>> in_world = AcceptedCellsInWorld(run);
@@ -109,7 +109,7 @@ int RunHypothesesExperiment(CliArgs& cli) {
       summed_area += h.area_m2;
       for (const HypothesisCell& c : h.cells) predicted_cells.MutableAt(c.cell.x(), c.cell.y()) = 0;
       psi_final.push_back(PredictionSimilarity(h.cells, built));
-      psi_final_strict.push_back(PredictionSimilarity(PoolCells(h.cells, pool), pooled_built, kNoTolerance));
+      psi_final_paper_cells.push_back(PredictionSimilarity(PoolCells(h.cells, pool), pooled_built, kNoTolerance));
       psi_truth.push_back(PredictionSimilarity(in_world[i], truth));
       psi_search.push_back(h.psi);
     }
@@ -117,7 +117,7 @@ int RunHypothesesExperiment(CliArgs& cli) {
     const double covered_area = KnownArea(built);
     const double fraction = covered_area > 0.0 ? predicted_area / covered_area : 0.0;
     const PsiSummary final_summary = Summarize(psi_final), truth_summary = Summarize(psi_truth);
-    const PsiSummary strict_summary = Summarize(psi_final_strict);
+    const PsiSummary paper_cells_summary = Summarize(psi_final_paper_cells);
     const JudgeAgreement agreement = CountJudgedAsTruth(run, psi_truth);
 
     std::printf("world %s, start (%.2f, %.2f, %.3f), seed %llu, %d particles, similarity threshold %.2f, %s coverage\n",
@@ -144,9 +144,9 @@ int RunHypothesesExperiment(CliArgs& cli) {
                   s.scored ? 100.0 * s.at_least_04 / s.scored : 0.0, s.mean, s.min, s.max);
     };
     row("vs final built map", final_summary);
-    char strict_name[40];
-    std::snprintf(strict_name, sizeof strict_name, "  eq. 5 on %.2f m cells", built.resolution() * pool);
-    row(strict_name, strict_summary);
+    char paper_cells_name[40];
+    std::snprintf(paper_cells_name, sizeof paper_cells_name, "  eq. 5 on %.2f m cells", built.resolution() * pool);
+    row(paper_cells_name, paper_cells_summary);
     row("vs true world", truth_summary);
     std::printf("paper (vs final map)   %6d %8d %7.1f%% %6.3f %6.3f %6.3f\n", 56, 36, 64.3, 0.51, 0.10, 0.86);
     std::printf("distribution (Fig. 10)  Psi bin:    ");
@@ -184,11 +184,11 @@ int RunHypothesesExperiment(CliArgs& cli) {
                                 {"covered_area_m2", JsonNumber(covered_area)},
                                 {"predicted_area_fraction", JsonNumber(fraction)},
                                 {"psi_final", JsonArray(psi_final)},
-                                {"psi_final_paper_cells", JsonArray(psi_final_strict)},
+                                {"psi_final_paper_cells", JsonArray(psi_final_paper_cells)},
                                 {"psi_truth", JsonArray(psi_truth)},
                                 {"psi_search", JsonArray(psi_search)},
                                 {"final", SummaryJson(final_summary)},
-                                {"final_paper_cells", SummaryJson(strict_summary)},
+                                {"final_paper_cells", SummaryJson(paper_cells_summary)},
                                 {"truth", SummaryJson(truth_summary)}}));
     }
     return 0;

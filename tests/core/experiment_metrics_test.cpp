@@ -54,8 +54,8 @@ TEST(ExperimentMetricsTest, PooledCellsScoreAsThePapersCoarserGrid) {
   ASSERT_EQ(column.size(), 20u);  // fine y = 1..38 pool into y = 0..19
   EXPECT_EQ(column.front().cell, Eigen::Vector2i(19, 0));
   const SimilarityOptions exact{CellStateThresholds{}, 0};
-  // One fine cell off the wall is the same coarse cell; two fine cells off is not, but for the two
-  // end cells, which share a coarse cell with the north and south walls.
+  // Here one fine cell off the wall is the same coarse cell; two fine cells off is not, but for
+  // the two end cells, which share a coarse cell with the north and south walls.
   EXPECT_DOUBLE_EQ(PredictionSimilarity(column, pooled, exact), 1.0);
   EXPECT_DOUBLE_EQ(PredictionSimilarity(PoolCells(Column(36, true), 2), pooled, exact), 4.0 / 22.0);
   // Negative indices pool downwards, and any occupied cell makes the pooled cell occupied.

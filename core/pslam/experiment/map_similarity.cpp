@@ -1,7 +1,7 @@
 #include "pslam/experiment/map_similarity.hpp"
 
-#include <cstdint>
 #include <algorithm>
+#include <cstdint>
 #include <unordered_map>
 #include <unordered_set>
 
