@@ -42,14 +42,15 @@ double ObservedSimilarity(const Hypothesis& hypothesis, const OccupancyGrid& lat
   const CellClassifier classify(thresholds);
   const CellRaster observed = RasterizeRegion(later_map, wide, classify);
   CellRaster predicted(wide.min, wide.width(), wide.height());
-  std::vector<std::uint8_t> compared(predicted.cells.size(), 0);
   for (const HypothesisCell& c : hypothesis.cells) {
     if (!predicted.Contains(c.cell)) continue;
     const Eigen::Vector2i local = c.cell - wide.min;
     predicted.Local(local.x(), local.y()) = c.occupied ? CellState::kOccupied : CellState::kFree;
-    const CellState state = observed.Local(local.x(), local.y());
-    compared[static_cast<std::size_t>(local.y()) * static_cast<std::size_t>(wide.width()) +
-             static_cast<std::size_t>(local.x())] = state == CellState::kOccupied || state == CellState::kFree;
+  }
+  std::vector<std::uint8_t> compared(predicted.cells.size());
+  for (std::size_t i = 0; i < compared.size(); ++i) {
+    const CellState seen = observed.cells[i];
+    compared[i] = IsExplored(predicted.cells[i]) && (seen == CellState::kOccupied || seen == CellState::kFree);
   }
   return CountOverlap(observed, predicted, tolerance_cells, compared).Psi();
 }
