@@ -155,6 +155,13 @@ int RunRunCommand(const std::vector<std::string>& args) {
     std::printf("real-time factor  %.1fx (log spans %.1f s)\n", wall > 0 ? duration / wall : 0.0, duration);
     std::printf("peak memory       %.1f MiB\n", PeakRssMiB());
     std::printf("resamplings       %d\n", s.resamplings);
+    if (const LoopCloser* loops = filter.loop_closer()) {
+      const LoopClosureStats& l = loops->stats();
+      std::printf("loop closure      %d closures in %d searches (%d ambiguous, %d outliers), %d optimisations,\n"
+                  "                  %d map rebuilds; %.1f s searching, %.1f s optimising, %.1f s rebuilding\n",
+                  l.closures, l.searches, l.ambiguous, l.outliers, l.optimizations, l.rebuilds, l.search_ms / 1e3,
+                  l.optimize_ms / 1e3, l.rebuild_ms / 1e3);
+    }
     if (pslam_options.predict) {
       const PSlamStats p = slam.stats();
       std::printf("predictions       %d targets, %d predicted, %d hypotheses (%d confirmed, %d refuted, %d expired)\n",

@@ -6,13 +6,18 @@
 
 #include "pslam/common/random.hpp"
 #include "pslam/filter/resampling.hpp"
+#include "pslam/grid/grid_transform.hpp"
 #include "pslam/matching/scan_likelihood.hpp"
 #include "pslam/matching/scan_matcher.hpp"
 
 namespace pslam {
 
 Rbpf::Rbpf(const RbpfOptions& options)
-    : options_(options), inserter_(options.insert), pool_(options.threads) {}
+    : options_(options), inserter_(options.insert), pool_(options.threads) {
+  if (options_.loop_closure.enabled) {
+    loop_closer_ = std::make_unique<LoopCloser>(options_.loop_closure, options_.insert, options_.resolution);
+  }
+}
 
 std::vector<double> Rbpf::Weights() const {
   std::vector<double> lw;
@@ -55,6 +60,7 @@ void Rbpf::Initialize(const LaserScan& scan) {
   tracked_.push_back(Pose2D());
   last_pose_ = options_.initial_pose;
   best_ = 0;
+  if (loop_closer_) loop_closer_->AddNode(0, first.pose, points);
 }
 
 RbpfStep Rbpf::AddScan(const LaserScan& scan) {
@@ -96,6 +102,13 @@ RbpfStep Rbpf::AddScan(const LaserScan& scan) {
       inserter_.Insert(points, p.pose, p.map, has_hypotheses_ ? &p.hypothesis : nullptr);
     });
     odometry_at_update_ = scan.odometry;
+    if (loop_closer_) {
+      const int scan_index = static_cast<int>(tracked_.size()) - 1;
+      if (auto correction = loop_closer_->AddNode(scan_index, best().pose, points)) {
+        step.correction = ApplyCorrection(*correction);
+        step.loop_corrected = true;
+      }
+    }
     last_pose_ = best().pose;
     step.updated = true;
     ++stats_.updates;
@@ -106,6 +119,32 @@ RbpfStep Rbpf::AddScan(const LaserScan& scan) {
   step.best = best_;
   step.pose = last_pose_;
   return step;
+}
+
+Pose2D Rbpf::ApplyCorrection(const LoopClosureCorrection& correction) {
+  const Pose2D old_best = best().pose;
+  const Pose2D new_best = correction.node_poses.back();
+  const Pose2D move = new_best * old_best.inverse();
+  // The corrected history, shared by every particle up to the previous update.
+  std::shared_ptr<const TrajectoryNode> history;
+  for (std::size_t k = 0; k + 1 < correction.node_poses.size(); ++k) {
+    history = std::make_shared<TrajectoryNode>(TrajectoryNode{correction.node_poses[k], correction.node_scans[k], history});
+  }
+  const int scan_index = correction.node_scans.back();
+  for (Particle& p : particles_) {  // copying a grid touches the source's write cache: not in parallel
+    // Particles keep their spread around the best one; all share the re-rendered map.
+    p.pose = new_best * Between(old_best, p.pose);
+    p.map = correction.map;
+    p.node = std::make_shared<TrajectoryNode>(TrajectoryNode{p.pose, scan_index, history});
+    for (Pose2D& frame : p.hypothesis_frames) frame = move * frame;
+  }
+  if (has_hypotheses_) {
+    pool_.ParallelFor(static_cast<int>(particles_.size()), [&](int i) {
+      Particle& p = particles_[static_cast<std::size_t>(i)];
+      p.hypothesis = TransformGrid(p.hypothesis, move);
+    });
+  }
+  return move;
 }
 
 PredictionUse Rbpf::UpdateParticles(const Pose2D& motion, const std::vector<Eigen::Vector2f>& hits) {

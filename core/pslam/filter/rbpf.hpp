@@ -10,6 +10,7 @@
 
 #include "pslam/common/parallel_for.hpp"
 #include "pslam/filter/rbpf_options.hpp"
+#include "pslam/graph/loop_closure.hpp"
 #include "pslam/grid/occupancy_grid.hpp"
 #include "pslam/sensor/laser_scan.hpp"
 
@@ -55,6 +56,10 @@ struct RbpfStep {
   PredictionUse prediction;
   int best = 0;                      // index of the best particle
   Pose2D pose;                       // best estimate of the robot pose at this scan
+  // A loop closure corrected the past: every map was re-rendered, and the map around the robot
+  // moved by `correction` (new frame from old, near the robot).
+  bool loop_corrected = false;
+  Pose2D correction;
 };
 
 struct RbpfStats {
@@ -76,6 +81,8 @@ class Rbpf {
   int best_index() const { return best_; }
   const Particle& best() const { return particles_[static_cast<std::size_t>(best_)]; }
   const RbpfStats& stats() const { return stats_; }
+  // Null when loop closure is off.
+  const LoopCloser* loop_closer() const { return loop_closer_.get(); }
   const RbpfOptions& options() const { return options_; }
   // Normalised weights of the particles.
   std::vector<double> Weights() const;
@@ -99,6 +106,8 @@ class Rbpf {
   void Initialize(const LaserScan& scan);
   PredictionUse UpdateParticles(const Pose2D& motion, const std::vector<Eigen::Vector2f>& hits);
   void SelectBest();
+  // Moves every particle onto the corrected trajectory and map; returns the move near the robot.
+  Pose2D ApplyCorrection(const LoopClosureCorrection& correction);
   void Resample(const std::vector<double>& weights);
   // Calls visit(particle, cell, predicted) in parallel for every particle and every predicted
   // cell, 'cell' being that cell moved into the particle's frame by hypothesis_frames[index].
@@ -115,6 +124,7 @@ class Rbpf {
   std::vector<Pose2D> tracked_;      // per scan: pose relative to the tracked particle's last update
   Pose2D last_pose_;
   bool has_hypotheses_ = false;
+  std::unique_ptr<LoopCloser> loop_closer_;
 };
 
 }  // namespace pslam

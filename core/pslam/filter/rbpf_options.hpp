@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "pslam/filter/motion_model.hpp"
+#include "pslam/graph/loop_closure_options.hpp"
 #include "pslam/grid/scan_inserter.hpp"
 #include "pslam/matching/scan_likelihood.hpp"
 #include "pslam/matching/scan_matcher.hpp"
@@ -44,6 +45,8 @@ struct RbpfOptions {
   ScanMatchOptions particle_match{.coarsest_level = 1};
   LikelihoodOptions likelihood;
   MotionNoise motion;
+  // Loop closure over a pose graph of the best particle's updates (pslam/graph/loop_closure.hpp).
+  LoopClosureOptions loop_closure;
 };
 
 }  // namespace pslam

@@ -1,0 +1,217 @@
+#include "pslam/graph/loop_closure.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <unordered_set>
+
+namespace pslam {
+namespace {
+
+double MsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+Eigen::Matrix3d SqrtInformation(double sigma_xy, double sigma_theta) {
+  return Eigen::Vector3d(1.0 / sigma_xy, 1.0 / sigma_xy, 1.0 / sigma_theta).asDiagonal();
+}
+
+}  // namespace
+
+LoopCloser::LoopCloser(const LoopClosureOptions& options, const ScanInsertOptions& insert, double resolution)
+    : options_(options), inserter_(insert), resolution_(resolution) {}
+
+std::optional<LoopClosureCorrection> LoopCloser::AddNode(int scan_index, const Pose2D& pose, const ScanPoints& points) {
+  Node node{scan_index, points, 0.0};
+  int n = 0;
+  if (nodes_.empty()) {
+    n = graph_.AddNode(pose);
+  } else {
+    // The filter's own motion since the previous node links the two; the new node starts where
+    // that motion takes the previous node's (possibly optimised) pose.
+    const Pose2D motion = Between(last_filter_pose_, pose);
+    n = graph_.AddNode(graph_.pose(graph_.size() - 1) * motion);
+    graph_.AddEdge({n - 1, n, motion, SqrtInformation(options_.odometry_sigma_xy, options_.odometry_sigma_theta), 0.0});
+    node.path_length = nodes_.back().path_length + std::hypot(motion.x, motion.y);
+  }
+  last_filter_pose_ = pose;
+  nodes_.push_back(std::move(node));
+  ++stats_.nodes;
+  AddToSubmap(n);
+  if (n % std::max(1, options_.check_every_nodes) == 0) SearchClosures(n);
+  if (pending_closures_ > 0 && (n - last_optimized_node_ >= options_.optimize_every_nodes ||
+                                pending_correction_ > options_.immediate_correction)) {
+    return Optimize(n);
+  }
+  return std::nullopt;
+}
+
+void LoopCloser::AddToSubmap(int n) {
+  if (submaps_.empty() || submaps_.back().finished) {
+    submaps_.push_back(Submap{n, n, OccupancyGrid(resolution_), Eigen::Vector2d::Zero(), false});
+    last_closure_node_.push_back(-1);
+    ++stats_.submaps;
+  }
+  Submap& s = submaps_.back();
+  const Pose2D local = Between(graph_.pose(s.first_node), graph_.pose(n));
+  inserter_.Insert(nodes_[static_cast<std::size_t>(n)].points, local, s.grid);
+  s.last_node = n;
+  s.node_sum += local.translation();
+  if (s.nodes() >= options_.nodes_per_submap) s.finished = true;
+}
+
+std::vector<Eigen::Vector2f> LoopCloser::MatchCloud(int n) const {
+  std::vector<Eigen::Vector2f> cloud;
+  std::unordered_set<std::int64_t> taken;
+  const Pose2D& at = graph_.pose(n);
+  // Newest first, so that the node's own scan wins a shared cell.
+  for (int k = n; k >= std::max(0, n - options_.context_nodes + 1); --k) {
+    const Pose2D relative = Between(at, graph_.pose(k));
+    for (const Eigen::Vector2f& p : nodes_[static_cast<std::size_t>(k)].points.hits) {
+      const Eigen::Vector2d q = relative * p.cast<double>();
+      if (q.norm() > options_.cloud_max_range) continue;
+      const auto kx = static_cast<std::int64_t>(std::floor(q.x() / options_.cloud_spacing));
+      const auto ky = static_cast<std::int64_t>(std::floor(q.y() / options_.cloud_spacing));
+      if (taken.insert((kx << 32) ^ (ky & 0xffffffff)).second) cloud.push_back(q.cast<float>());
+    }
+  }
+  return cloud;
+}
+
+void LoopCloser::SearchClosures(int n) {
+  const auto start = std::chrono::steady_clock::now();
+  const int eligible = static_cast<int>(submaps_.size()) - 1 - options_.recent_submaps;
+  struct Candidate {
+    int submap;
+    double distance;
+  };
+  std::vector<Candidate> candidates;
+  const Eigen::Vector2d here = graph_.pose(n).translation();
+  const double travelled = nodes_[static_cast<std::size_t>(n)].path_length;
+  for (int s = 0; s <= eligible; ++s) {
+    const Submap& submap = submaps_[static_cast<std::size_t>(s)];
+    if (!submap.finished) continue;
+    if (last_closure_node_[static_cast<std::size_t>(s)] >= n - options_.nodes_per_submap / 2) continue;
+    double nearest = 1e18;
+    for (int k = submap.first_node; k <= submap.last_node; ++k) {
+      nearest = std::min(nearest, (graph_.pose(k).translation() - here).norm());
+    }
+    const double window = std::clamp(options_.base_window +
+                                         options_.window_per_metre * (travelled - nodes_[static_cast<std::size_t>(submap.last_node)].path_length),
+                                     options_.base_window, options_.max_window);
+    if (nearest <= window + 3.0) candidates.push_back({s, nearest});
+  }
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) { return a.distance < b.distance; });
+  if (static_cast<int>(candidates.size()) > options_.max_candidates) candidates.resize(static_cast<std::size_t>(options_.max_candidates));
+  if (!candidates.empty()) {
+    const std::vector<Eigen::Vector2f> cloud = MatchCloud(n);
+    for (const Candidate& c : candidates) TryClosure(n, c.submap, cloud);
+  }
+  stats_.search_ms += MsSince(start);
+}
+
+const MaxPoolStack& LoopCloser::SearchGrid(int submap) {
+  ++cache_clock_;
+  for (CachedGrid& c : cache_) {
+    if (c.submap == submap) {
+      c.last_used = cache_clock_;
+      return *c.stack;
+    }
+  }
+  auto stack = std::make_unique<MaxPoolStack>(submaps_[static_cast<std::size_t>(submap)].grid, options_.search_depth);
+  if (static_cast<int>(cache_.size()) < std::max(1, options_.cached_search_grids)) {
+    cache_.push_back({submap, std::move(stack), cache_clock_});
+    return *cache_.back().stack;
+  }
+  CachedGrid& oldest = *std::min_element(cache_.begin(), cache_.end(),
+                                         [](const CachedGrid& a, const CachedGrid& b) { return a.last_used < b.last_used; });
+  oldest = {submap, std::move(stack), cache_clock_};
+  return *oldest.stack;
+}
+
+bool LoopCloser::TryClosure(int n, int s, const std::vector<Eigen::Vector2f>& cloud) {
+  if (cloud.size() < 20) return false;
+  ++stats_.searches;
+  const Submap& submap = submaps_[static_cast<std::size_t>(s)];
+  const Pose2D guess = Between(graph_.pose(submap.first_node), graph_.pose(n));
+  const double travelled = nodes_[static_cast<std::size_t>(n)].path_length -
+                           nodes_[static_cast<std::size_t>(submap.last_node)].path_length;
+  BranchAndBoundOptions search{
+      .linear_window = std::clamp(options_.base_window + options_.window_per_metre * travelled, options_.base_window,
+                                  options_.max_window),
+      .angular_window = options_.angular_window,
+      .min_score = options_.min_score};
+  const MaxPoolStack& grid = SearchGrid(s);
+  const BranchAndBoundResult best = MatchByBranchAndBound(grid, cloud, guess, search);
+  if (!best.found) return false;
+  // The best pose elsewhere: if it scores nearly as well, the place repeats and the match says
+  // nothing about which copy the robot is in.
+  search.min_score = options_.ambiguity_ratio * best.score;
+  const BranchAndBoundResult alternative = MatchByBranchAndBound(grid, cloud, guess, search, [&](const Pose2D& p) {
+    return std::hypot(p.x - best.pose.x, p.y - best.pose.y) < options_.ambiguity_distance &&
+           std::abs(NormalizeAngle(p.theta - best.pose.theta)) < options_.ambiguity_angle;
+  });
+  if (alternative.found) {
+    ++stats_.ambiguous;
+    return false;
+  }
+  Pose2D measured = best.pose;
+  const ScanMatchResult refined = MatchScan(submap.grid, cloud, best.pose, options_.refine);
+  if (refined.converged) measured = refined.pose;
+  graph_.AddEdge({submap.first_node, n, measured, SqrtInformation(options_.loop_sigma_xy, options_.loop_sigma_theta),
+                  options_.huber_scale});
+  const Pose2D asked = Between(guess, measured);
+  pending_correction_ = std::max(pending_correction_, std::hypot(asked.x, asked.y));
+  ++pending_closures_;
+  ++stats_.closures;
+  last_closure_node_[static_cast<std::size_t>(s)] = n;
+  return true;
+}
+
+std::optional<LoopClosureCorrection> LoopCloser::Optimize(int n) {
+  auto start = std::chrono::steady_clock::now();
+  const std::vector<Pose2D> before = graph_.poses();
+  graph_.Optimize();
+  // A closure that still disagrees with everything else after optimising was a wrong match.
+  const int removed = graph_.RemoveEdgesIf([&](const PoseGraphEdge& e) {
+    return e.huber_scale > 0.0 && graph_.Mahalanobis(e) > options_.outlier_sigma;
+  });
+  if (removed > 0) {
+    stats_.outliers += removed;
+    graph_.Optimize();
+  }
+  ++stats_.optimizations;
+  stats_.optimize_ms += MsSince(start);
+  pending_closures_ = 0;
+  pending_correction_ = 0.0;
+  last_optimized_node_ = n;
+
+  double moved = 0.0, turned = 0.0;
+  for (int k = 0; k < graph_.size(); ++k) {
+    const Pose2D d = Between(before[static_cast<std::size_t>(k)], graph_.pose(k));
+    moved = std::max(moved, std::hypot(d.x, d.y));
+    turned = std::max(turned, std::abs(d.theta));
+  }
+  const Pose2D last = Between(before.back(), graph_.pose(n));
+  stats_.last_correction_m = std::hypot(last.x, last.y);
+  if (moved < options_.rebuild_translation && turned < options_.rebuild_rotation) return std::nullopt;
+
+  start = std::chrono::steady_clock::now();
+  LoopClosureCorrection correction;
+  correction.node_scans.reserve(nodes_.size());
+  for (const Node& node : nodes_) correction.node_scans.push_back(node.scan_index);
+  correction.node_poses = graph_.poses();
+  correction.map = Render();
+  last_filter_pose_ = graph_.pose(n);  // the filter continues from the corrected pose
+  ++stats_.rebuilds;
+  stats_.rebuild_ms += MsSince(start);
+  return correction;
+}
+
+OccupancyGrid LoopCloser::Render() const {
+  OccupancyGrid map(resolution_);
+  for (int k = 0; k < graph_.size(); ++k) inserter_.Insert(nodes_[static_cast<std::size_t>(k)].points, graph_.pose(k), map);
+  return map;
+}
+
+}  // namespace pslam

@@ -1,0 +1,90 @@
+#pragma once
+// Loop closure for the particle filter (the filter stays the local estimator): every filter update
+// becomes a node of a pose graph, linked to the previous one by the filter's own relative motion.
+// Nodes are grouped into submaps; a node near an older submap is matched against it by branch
+// and bound, and an unambiguous match becomes a loop-closure edge. After optimisation the map is
+// re-rendered from the corrected poses, so that the past is corrected, not only the present.
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "pslam/graph/branch_and_bound_matcher.hpp"
+#include "pslam/graph/loop_closure_options.hpp"
+#include "pslam/graph/pose_graph.hpp"
+#include "pslam/graph/submap.hpp"
+#include "pslam/grid/scan_inserter.hpp"
+#include "pslam/sensor/scan_points.hpp"
+
+namespace pslam {
+
+struct LoopClosureStats {
+  int nodes = 0;
+  int submaps = 0;
+  int searches = 0;              // node-to-submap matches tried
+  int closures = 0;              // accepted as edges
+  int ambiguous = 0;             // matched, but another pose scored nearly as well
+  int outliers = 0;              // accepted, then removed for disagreeing with the optimum
+  int optimizations = 0;
+  int rebuilds = 0;              // map re-rendered from corrected poses
+  double search_ms = 0.0;        // CPU time of the searches, optimisations and rebuilds
+  double optimize_ms = 0.0;
+  double rebuild_ms = 0.0;
+  double last_correction_m = 0.0;  // how far the last optimisation moved the newest node
+};
+
+// What an optimisation changed: the corrected pose of every node and the map rendered from them.
+struct LoopClosureCorrection {
+  std::vector<int> node_scans;     // scan index of each node
+  std::vector<Pose2D> node_poses;  // optimised, in the map frame
+  OccupancyGrid map;
+};
+
+class LoopCloser {
+ public:
+  LoopCloser(const LoopClosureOptions& options, const ScanInsertOptions& insert, double resolution);
+
+  // Adds the filter's pose at an update, with the scan it inserted. Returns a correction when the
+  // graph was optimised and moved some node enough to re-render the map.
+  std::optional<LoopClosureCorrection> AddNode(int scan_index, const Pose2D& pose, const ScanPoints& points);
+
+  const LoopClosureStats& stats() const { return stats_; }
+  const PoseGraph& graph() const { return graph_; }
+  int loop_edges() const { return static_cast<int>(graph_.edges().size()) - std::max(0, graph_.size() - 1); }
+
+ private:
+  struct Node {
+    int scan_index = 0;
+    ScanPoints points;
+    double path_length = 0.0;     // metres travelled from the first node
+  };
+
+  void AddToSubmap(int node);
+  void SearchClosures(int node);
+  bool TryClosure(int node, int submap, const std::vector<Eigen::Vector2f>& cloud);
+  std::vector<Eigen::Vector2f> MatchCloud(int node) const;
+  const MaxPoolStack& SearchGrid(int submap);
+  std::optional<LoopClosureCorrection> Optimize(int node);
+  OccupancyGrid Render() const;
+
+  LoopClosureOptions options_;
+  ScanInserter inserter_;
+  double resolution_;
+  PoseGraph graph_;
+  std::vector<Node> nodes_;
+  std::vector<Submap> submaps_;
+  std::vector<int> last_closure_node_;   // per submap, the node of its latest closure (-1: none)
+  struct CachedGrid {
+    int submap = -1;
+    std::unique_ptr<MaxPoolStack> stack;
+    long last_used = 0;
+  };
+  std::vector<CachedGrid> cache_;
+  long cache_clock_ = 0;
+  Pose2D last_filter_pose_;              // the filter's pose at the newest node
+  int pending_closures_ = 0;
+  double pending_correction_ = 0.0;      // largest move a pending closure asks of its node
+  int last_optimized_node_ = 0;
+  LoopClosureStats stats_;
+};
+
+}  // namespace pslam

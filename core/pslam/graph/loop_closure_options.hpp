@@ -1,0 +1,50 @@
+#pragma once
+// Every tunable of loop closure, with its default, in one place.
+#include "pslam/matching/scan_matcher.hpp"
+
+namespace pslam {
+
+struct LoopClosureOptions {
+  bool enabled = true;
+  // Submaps: consecutive filter updates (nodes) rendered into one rigid local grid.
+  int nodes_per_submap = 25;
+  int recent_submaps = 2;          // the newest submaps are what tracking matches against: skipped
+  // Which nodes look for a closure, and where.
+  int check_every_nodes = 3;
+  int max_candidates = 2;          // nearest eligible submaps tried per check
+  int context_nodes = 5;           // the newest nodes' hits together form the matched cloud
+  double cloud_spacing = 0.15;     // metres between kept cloud points
+  double cloud_max_range = 12.0;   // metres from the node
+  // The linear search window grows with the path travelled since the submap was built, as
+  // odometry-like drift does, up to max_window.
+  double base_window = 1.0;        // metres
+  double window_per_metre = 0.05;
+  double max_window = 4.0;         // metres
+  double angular_window = 0.45;    // radians each way
+  int search_depth = 6;            // max-pooled levels of the branch-and-bound search (2^6 cells)
+  double min_score = 0.55;         // mean occupancy probability of the matched cloud
+  // A closure is ambiguous (a repeated room, a uniform corridor) when a pose this far from the
+  // best one scores nearly as well: it is not used.
+  double ambiguity_distance = 0.6;     // metres
+  double ambiguity_angle = 0.25;       // radians
+  double ambiguity_ratio = 0.92;       // alternative score / best score
+  ScanMatchOptions refine{.coarsest_level = 0, .max_correction_translation = 0.15, .max_correction_rotation = 0.1};
+  // Pose graph: standard deviations of the filter's relative motion between two updates and of a
+  // closure; closures carry a Huber loss and are dropped when they disagree with the optimum.
+  double odometry_sigma_xy = 0.02;     // metres
+  double odometry_sigma_theta = 0.01;  // radians
+  double loop_sigma_xy = 0.05;
+  double loop_sigma_theta = 0.02;
+  double huber_scale = 2.0;            // in standard deviations
+  double outlier_sigma = 6.0;          // a closure further off than this after optimising is removed
+  // When to optimise: after new closures, once every so many nodes, or at once when a closure
+  // moves the robot further than immediate_correction.
+  int optimize_every_nodes = 20;
+  double immediate_correction = 0.1;   // metres
+  // The filter's maps are re-rendered from the optimised poses when some node moved this far.
+  double rebuild_translation = 0.02;   // metres
+  double rebuild_rotation = 0.005;     // radians
+  int cached_search_grids = 16;        // max-pooled submap stacks kept between checks
+};
+
+}  // namespace pslam
