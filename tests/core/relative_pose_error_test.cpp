@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -116,14 +117,62 @@ TEST(RelativePoseError, MissingStampsAreCountedNotUsed) {
   EXPECT_EQ(none.trans_mean, 0.0);
 }
 
-TEST(RelativePoseError, StampsFallBackToNumericMatch) {
-  const std::vector<StampedPose> trajectory = {{"976052857.337530", 976052857.337530, Pose2D(0, 0, 0)},
-                                               {"976052858.000000", 976052858.0, Pose2D(2, 0, 0)}};
-  const RpeResult r = ComputeRpe(trajectory, {{"976052857.33753", "976052858", Pose2D(1.5, 0, 0)},
-                                              {"976052857.33755", "976052858", Pose2D(1.5, 0, 0)}});
-  EXPECT_EQ(r.used, 1u);  // 20 us apart is a different scan
-  EXPECT_EQ(r.missing, 1u);
+TEST(RelativePoseError, StampsMatchByTimeWithinTheTolerance) {
+  const std::vector<StampedPose> trajectory = {{"976052857.337530", 0.0, Pose2D(0, 0, 0)},
+                                               {"976052858.000000", 0.0, Pose2D(2, 0, 0)}};
+  const std::vector<Relation> relations = {{"976052857.33753", "976052858", Pose2D(1.5, 0, 0)},
+                                           {"976052857.33755", "976052858", Pose2D(1.5, 0, 0)}};
+  const RpeResult r = ComputeRpe(trajectory, relations);  // 20 us is well inside the default 1 ms
+  EXPECT_EQ(r.used, 2u);
+  EXPECT_EQ(r.missing, 0u);
   EXPECT_NEAR(r.trans_mean, 0.5, 1e-12);
+  EXPECT_NEAR(r.max_stamp_offset_s, 20e-6, 2e-7);  // doubles near 1e9 s resolve 1.2e-7 s
+  const RpeResult tight = ComputeRpe(trajectory, relations, 1e-6);
+  EXPECT_EQ(tight.used, 1u);
+  EXPECT_EQ(tight.missing, 1u);
+  EXPECT_EQ(tight.stamp_tolerance_s, 1e-6);
+}
+
+TEST(RelativePoseError, RelationsWithFewerDecimalsThanTheLogMatch) {
+  // Intel log scans 0.9 ms apart; rounded to 5 decimals their stamps move by 1-3 us.
+  const std::vector<StampedPose> trajectory = {{"976052888.424429", 0.0, Pose2D(0, 0, 0)},
+                                               {"976052888.425469", 0.0, Pose2D(1, 0, 0)},
+                                               {"976052888.426363", 0.0, Pose2D(3, 0, 0)}};
+  const RpeResult r = ComputeRpe(trajectory, {{"976052888.42443", "976052888.42547", Pose2D(1, 0, 0)},
+                                              {"976052888.42547", "976052888.42636", Pose2D(2, 0, 0)}});
+  EXPECT_EQ(r.used, 2u);
+  EXPECT_EQ(r.missing, 0u);
+  EXPECT_NEAR(r.trans_max, 0.0, 1e-12);  // each stamp took its own scan, not a neighbour within 1 ms
+  EXPECT_LT(r.max_stamp_offset_s, 5e-6);
+}
+
+TEST(RelativePoseError, NearestStampWinsAndRepeatsTakeTheFirst) {
+  const std::vector<StampedPose> trajectory = {{"10.0000", 0.0, Pose2D(0, 0, 0)},  {"10.0008", 0.0, Pose2D(1, 0, 0)},
+                                               {"10.0008", 0.0, Pose2D(9, 0, 0)},  {"", 20.0, Pose2D(5, 0, 0)}};
+  const RpeResult r = ComputeRpe(trajectory, {{"10.0007", "20.0003", Pose2D(4, 0, 0)},  // 10.0008, first of two
+                                              {"10.0003", "20", Pose2D(5, 0, 0)}});     // 10.0000; time without text
+  EXPECT_EQ(r.used, 2u);
+  EXPECT_NEAR(r.trans_max, 0.0, 1e-12);
+}
+
+TEST(RelativePoseError, TooManyMissingRelationsAreAnError) {
+  const std::vector<Pose2D> truth = TruePath(21);
+  std::vector<Relation> relations = ConsecutiveRelations(truth);  // 20 that match
+  relations.push_back({Stamp(0), "5.25", Pose2D()});
+  const RpeResult one = ComputeRpe(Stamped(truth), relations);
+  EXPECT_EQ(one.missing, 1u);
+  EXPECT_EQ(TooManyMissing(one, 5.0), std::nullopt);  // 1 of 21 = 4.8 %
+  relations.push_back({"7.5", Stamp(1), Pose2D()});
+  const RpeResult two = ComputeRpe(Stamped(truth), relations);
+  EXPECT_EQ(two.missing, 2u);
+  const auto problem = TooManyMissing(two, 5.0);  // 2 of 22 = 9.1 %
+  ASSERT_TRUE(problem.has_value());
+  EXPECT_NE(problem->find("2 of 22 relations (9.1 %)"), std::string::npos) << *problem;
+  EXPECT_NE(problem->find("0.001 s"), std::string::npos) << *problem;
+  EXPECT_EQ(TooManyMissing(two, 10.0), std::nullopt);
+  // Nothing matched, or nothing to match, is an error whatever the limit.
+  EXPECT_TRUE(TooManyMissing(ComputeRpe({}, relations), 100.0).has_value());
+  EXPECT_TRUE(TooManyMissing(ComputeRpe(Stamped(truth), {}), 100.0).has_value());
 }
 
 TEST(RelativePoseError, ReadsRelationsAndReportsBadLines) {
@@ -188,6 +237,33 @@ TEST(RelativePoseError, ReadsTheIntelRelations) {
   ASSERT_EQ(relations.size(), 2984u);
   EXPECT_EQ(relations[0].stamp1, "976052905.167303");
   EXPECT_DOUBLE_EQ(relations[0].delta.theta, -1.682210);
+}
+
+TEST(RelativePoseError, IntelRelationsRoundedToFiveDecimalsAllMatch) {
+  PSLAM_REQUIRE_DATA(path, "intel/intel.relations");
+  const std::vector<Relation> relations = ReadRelations(path.string());
+  // A trajectory at the relations' own (log) stamps, each pose distinct, and the relations
+  // rewritten with 5 decimals as another tool might have saved them.
+  std::vector<StampedPose> trajectory;
+  std::vector<Relation> rounded;
+  auto round5 = [](const std::string& stamp) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.5f", *ParseStampSeconds(stamp));
+    return std::string(text);
+  };
+  for (const Relation& r : relations) {
+    for (const std::string& stamp : {r.stamp1, r.stamp2}) {
+      trajectory.push_back({stamp, 0.0, Pose2D(static_cast<double>(trajectory.size()), 0.0, 0.0)});
+    }
+    rounded.push_back({round5(r.stamp1), round5(r.stamp2), r.delta});
+  }
+  const RpeResult exact = ComputeRpe(trajectory, relations);
+  ASSERT_EQ(exact.used, 2984u);
+  const RpeResult r = ComputeRpe(trajectory, rounded);
+  EXPECT_EQ(r.used, 2984u);
+  EXPECT_EQ(r.missing, 0u);
+  EXPECT_LE(r.max_stamp_offset_s, 5.1e-6);
+  EXPECT_EQ(r.trans_mean, exact.trans_mean);  // the same poses were found
 }
 
 }  // namespace

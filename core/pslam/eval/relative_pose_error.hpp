@@ -5,6 +5,7 @@
 // punish one early mistake over and over along the rest of the trajectory.
 #include <cstddef>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,11 +25,18 @@ struct Relation {
 std::vector<Relation> ReadRelations(const std::string& path);
 std::vector<Relation> ReadRelations(std::istream& in, const std::string& name);
 
+// Logs write stamps with microseconds, relation files sometimes with fewer decimals. Scans can be
+// closer than this (1479 pairs in the Intel log are), so a stamp takes the nearest pose, not the first
+// one within reach.
+constexpr double kDefaultStampTolerance = 1e-3;  // s
+
 // Statistics over the used relations; std is the population standard deviation (divide by n).
 // All statistics are 0 when no relation was used.
 struct RpeResult {
   std::size_t used = 0;
-  std::size_t missing = 0;  // relations with a stamp not in the trajectory
+  std::size_t missing = 0;  // relations with a stamp that no trajectory stamp is within the tolerance of
+  double stamp_tolerance_s = kDefaultStampTolerance;  // the tolerance the stamps were matched with
+  double max_stamp_offset_s = 0.0;  // largest |relation stamp - matched trajectory stamp| of the used relations
   double trans_mean = 0.0, trans_std = 0.0;        // m
   double rot_mean_deg = 0.0, rot_std_deg = 0.0;    // deg
   double trans2_mean = 0.0, trans2_std = 0.0;      // m^2
@@ -38,9 +46,16 @@ struct RpeResult {
 };
 
 // Per relation: error = Between(delta, Between(est_t1, est_t2)); translational error is the norm of
-// its translation, rotational error |theta| in degrees. Stamps match by exact text first, then by
-// numeric time within 1e-6 s (so "976052857.33753" finds "976052857.337530"). If the trajectory
-// repeats a stamp, its first pose is used.
-RpeResult ComputeRpe(const std::vector<StampedPose>& trajectory, const std::vector<Relation>& relations);
+// its translation, rotational error |theta| in degrees. Stamps match by time, not text: each
+// relation stamp takes the trajectory pose with the nearest stamp, if that is at most
+// 'stamp_tolerance_s' away (so "976052905.16730" finds "976052905.167303"). A trajectory stamp's
+// time is its text when that is a number, else StampedPose::time. If the trajectory repeats a
+// stamp, its first pose is used.
+RpeResult ComputeRpe(const std::vector<StampedPose>& trajectory, const std::vector<Relation>& relations,
+                     double stamp_tolerance_s = kDefaultStampTolerance);
+
+// A message when more than 'max_missing_percent' % of the relations (or all of them) found no
+// pose: an error over the few that matched would look valid but measure little. nullopt if fine.
+std::optional<std::string> TooManyMissing(const RpeResult& result, double max_missing_percent);
 
 }  // namespace pslam

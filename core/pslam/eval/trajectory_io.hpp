@@ -1,7 +1,8 @@
 #pragma once
 // Trajectory files: one pose per line, "timestamp x y theta" (metres, radians). The timestamp text
-// is kept verbatim, because benchmark relations (Kümmerle et al. 2009) name scans by that exact
-// text ("976052857.337530"), and a double cannot carry it back unchanged.
+// is kept verbatim, so that a written trajectory names scans exactly as the log did
+// ("976052857.337530"); a double printed back need not. Relations match stamps by time, though
+// (relative_pose_error.hpp).
 #include <functional>
 #include <iosfwd>
 #include <optional>
