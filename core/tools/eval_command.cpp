@@ -16,10 +16,13 @@ namespace pslam {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: pslam eval --trajectory FILE --relations FILE [--json]\n"
+    "usage: pslam eval --trajectory FILE --relations FILE [--stamp-tolerance S] [--max-missing PERCENT] [--json]\n"
     "       pslam eval --map MAP.yaml --reference REFERENCE.yaml [--json]\n"
     "  The first form gives the relative pose error (Kuemmerle et al. 2009) of a trajectory\n"
     "  ('timestamp x y theta' lines) against ground-truth relations ('t1 t2 x y z roll pitch yaw').\n"
+    "  A relation stamp takes the pose with the nearest stamp within S seconds (default 0.001);\n"
+    "  relations without one are counted as missing, and more than PERCENT % of them (default 5)\n"
+    "  is an error.\n"
     "  The second gives the KL divergence D_KL(reference || map) of P-SLAM eq. 24 (lower is better).\n";
 
 int UsageError(const std::string& message) {
@@ -27,23 +30,34 @@ int UsageError(const std::string& message) {
   return 2;
 }
 
-int PrintRpe(const std::string& trajectory_path, const std::string& relations_path, bool json) {
-  const RpeResult r = ComputeRpe(ReadTrajectory(trajectory_path), ReadRelations(relations_path));
-  if (r.used == 0) {
-    std::fprintf(stderr, "pslam eval: no relation of %s matches stamps in %s (%zu missing)\n", relations_path.c_str(),
-                 trajectory_path.c_str(), r.missing);
+struct RpeOptions {
+  double stamp_tolerance_s = kDefaultStampTolerance;
+  double max_missing_percent = 5.0;
+};
+
+int PrintRpe(const std::string& trajectory_path, const std::string& relations_path, const RpeOptions& options,
+             bool json) {
+  const RpeResult r =
+      ComputeRpe(ReadTrajectory(trajectory_path), ReadRelations(relations_path), options.stamp_tolerance_s);
+  if (const auto problem = TooManyMissing(r, options.max_missing_percent)) {
+    std::fprintf(stderr, "pslam eval: relations %s against trajectory %s: %s (see --stamp-tolerance, --max-missing)\n",
+                 relations_path.c_str(), trajectory_path.c_str(), problem->c_str());
     return 1;
   }
+  const double missing_percent = 100.0 * static_cast<double>(r.missing) / static_cast<double>(r.used + r.missing);
   if (json) {
     std::printf(
         "{\"used\": %zu, \"missing\": %zu, \"trans_mean_m\": %.9g, \"trans_std_m\": %.9g, \"trans_max_m\": %.9g, "
         "\"rot_mean_deg\": %.9g, \"rot_std_deg\": %.9g, \"rot_max_deg\": %.9g, \"trans2_mean_m2\": %.9g, "
-        "\"trans2_std_m2\": %.9g, \"rot2_mean_deg2\": %.9g, \"rot2_std_deg2\": %.9g}\n",
+        "\"trans2_std_m2\": %.9g, \"rot2_mean_deg2\": %.9g, \"rot2_std_deg2\": %.9g, \"relations\": %zu, "
+        "\"missing_percent\": %.9g, \"stamp_tolerance_s\": %.9g, \"max_stamp_offset_s\": %.9g}\n",
         r.used, r.missing, r.trans_mean, r.trans_std, r.trans_max, r.rot_mean_deg, r.rot_std_deg, r.rot_max_deg,
-        r.trans2_mean, r.trans2_std, r.rot2_mean_deg2, r.rot2_std_deg2);
+        r.trans2_mean, r.trans2_std, r.rot2_mean_deg2, r.rot2_std_deg2, r.used + r.missing, missing_percent,
+        r.stamp_tolerance_s, r.max_stamp_offset_s);
     return 0;
   }
-  std::printf("relations: %zu used, %zu missing\n", r.used, r.missing);
+  std::printf("relations: %zu used, %zu missing (%.1f %%; stamps matched within %g s, largest offset %.6f s)\n", r.used,
+              r.missing, missing_percent, r.stamp_tolerance_s, r.max_stamp_offset_s);
   std::printf("%-24s %12s   %-12s %12s\n", "relative pose error", "mean", "std", "max");
   const auto row = [](const char* name, double mean, double std, double max) {
     std::printf("%-24s %12.6f \xC2\xB1 %-12.6f %12.6f\n", name, mean, std, max);  // U+00B1 '±'
@@ -73,6 +87,11 @@ int RunEvalCommand(const std::vector<std::string>& args) {
   const bool json = cli.Flag("--json");
   const std::optional<std::string> trajectory = cli.Value("--trajectory"), relations = cli.Value("--relations");
   const std::optional<std::string> map = cli.Value("--map"), reference = cli.Value("--reference");
+  RpeOptions rpe_options;
+  rpe_options.stamp_tolerance_s = cli.Double("--stamp-tolerance", rpe_options.stamp_tolerance_s);
+  rpe_options.max_missing_percent = cli.Double("--max-missing", rpe_options.max_missing_percent);
+  if (!(rpe_options.stamp_tolerance_s >= 0.0)) cli.AddError("--stamp-tolerance must be >= 0 seconds");
+  if (!(rpe_options.max_missing_percent >= 0.0)) cli.AddError("--max-missing must be a percentage >= 0");
   if (!cli.ok()) return UsageError(cli.error());
   if (help) {
     std::printf("%s", kUsage);
@@ -83,7 +102,7 @@ int RunEvalCommand(const std::vector<std::string>& args) {
   if (rpe_mode && !(trajectory && relations)) return UsageError("--trajectory and --relations go together\n");
   if (kl_mode && !(map && reference)) return UsageError("--map and --reference go together\n");
   try {
-    return rpe_mode ? PrintRpe(*trajectory, *relations, json) : PrintKl(*map, *reference, json);
+    return rpe_mode ? PrintRpe(*trajectory, *relations, rpe_options, json) : PrintKl(*map, *reference, json);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "pslam eval: %s\n", e.what());
     return 1;
