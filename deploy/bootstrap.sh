@@ -6,7 +6,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config curl ca-certificates
-  libeigen3-dev nlohmann-json3-dev libsqlite3-dev sqlite3 zlib1g-dev libpng-dev
+  libeigen3-dev nlohmann-json3-dev libsqlite3-dev sqlite3 zlib1g-dev libbz2-dev libpng-dev
   libboost-dev libboost-system-dev
   libopencv-dev
   libgtest-dev libgmock-dev libbenchmark-dev

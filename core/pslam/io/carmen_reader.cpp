@@ -13,6 +13,9 @@
 #include <string_view>
 #include <utility>
 
+#include "pslam/io/bzip2_line_source.hpp"
+#include "pslam/io/line_source.hpp"
+
 #ifdef PSLAM_HAVE_ZLIB
 #include <zlib.h>
 #endif
@@ -30,14 +33,8 @@ constexpr double kMaxPlausibleMountOffset = 2.0;
 using Tokens = std::span<const std::string_view>;
 
 // ---------------------------------------------------------------------------------------------
-// Line sources: plain streams, and gzip through zlib when the build provides it.
-
-class LineSource {
- public:
-  virtual ~LineSource() = default;
-  virtual bool ReadLine(std::string& line) = 0;  // without the '\n'; false at the end
-  virtual double Progress() const = 0;
-};
+// Line sources: plain streams, bzip2 (bzip2_line_source.hpp), and gzip through zlib when the build
+// provides it.
 
 class StreamSource : public LineSource {
  public:
@@ -110,11 +107,14 @@ class GzSource : public LineSource {
 std::unique_ptr<LineSource> OpenPath(const std::string& path) {
   auto file = std::make_unique<std::ifstream>(path, std::ios::binary);
   if (!*file) throw std::runtime_error("cannot open CARMEN log '" + path + "': " + std::strerror(errno));
-  char magic[2] = {0, 0};
-  file->read(magic, 2);
-  const bool gzip = file->gcount() == 2 && magic[0] == '\x1f' && magic[1] == '\x8b';
+  char magic[3] = {0, 0, 0};
+  file->read(magic, 3);
+  const auto got = file->gcount();
+  const bool gzip = got >= 2 && magic[0] == '\x1f' && magic[1] == '\x8b';
+  const bool bzip2 = got == 3 && magic[0] == 'B' && magic[1] == 'Z' && magic[2] == 'h';
   file->clear();
   file->seekg(0);
+  if (bzip2) return std::make_unique<Bzip2LineSource>(path);
   if (gzip) {
 #ifdef PSLAM_HAVE_ZLIB
     file->seekg(0, std::ios::end);

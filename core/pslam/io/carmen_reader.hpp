@@ -41,9 +41,10 @@ using LogRecord = std::variant<LaserScan, OdometryReading>;
 
 class CarmenReader {
  public:
-  // Throws std::runtime_error naming the path if it cannot be opened. gzip input (detected by its
-  // magic bytes) is decompressed with zlib when the io layer is built with PSLAM_HAVE_ZLIB (and
-  // linked to ZLIB::ZLIB); without it a .gz file throws a clear error asking to gunzip it.
+  // Throws std::runtime_error naming the path if it cannot be opened. bzip2 input (detected by its
+  // magic bytes "BZh") is decompressed with libbz2. gzip input (magic bytes 1f 8b) is decompressed
+  // with zlib when the io layer is built with PSLAM_HAVE_ZLIB (and linked to ZLIB::ZLIB); without
+  // it a .gz file throws a clear error asking to gunzip it.
   explicit CarmenReader(const std::string& path, CarmenReaderOptions options = {});
   // Reads from a caller-owned stream that must outlive the reader; `name` is used in messages.
   CarmenReader(std::istream& in, std::string name, CarmenReaderOptions options = {});
