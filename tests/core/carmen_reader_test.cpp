@@ -206,6 +206,19 @@ TEST(CarmenReaderTest, CrlfCommentsBlankAndUnknownLines) {
   EXPECT_EQ(stats.scans, 1u);
 }
 
+TEST(CarmenReaderTest, UnknownRecordsAreCountedByName) {
+  std::string log = "SYNC a 1.0 h 0\nTRUEPOS 0 0 0 0 0 0 1.0 h 0\nSYNC b 2.0 h 0\n" + Odom(0, 0, 0, "1.0");
+  for (int i = 0; i < 20; ++i) log += "NOISE" + std::to_string(i) + " 1.0 h 0\n";  // not a CARMEN name at all
+  CarmenReadStats stats;
+  ReadAll(log, {.strict = true}, &stats);
+  EXPECT_EQ(stats.ignored_unknown, 23u);
+  EXPECT_EQ(stats.odometry, 1u);
+  EXPECT_EQ(stats.unknown_by_type.at("SYNC"), 2u);
+  EXPECT_EQ(stats.unknown_by_type.at("TRUEPOS"), 1u);
+  EXPECT_EQ(stats.unknown_by_type.size(), 16u);  // capped; the total still counts them all
+  EXPECT_EQ(stats.unknown_by_type.count("NOISE19"), 0u);
+}
+
 TEST(CarmenReaderTest, ParamMaxRangeAndDefaults) {
   const std::string scan = "FLASER 1 60.0 0 0 0 0 0 0 1.0 h 0\n";
   auto max_range = [](const std::string& text, CarmenReaderOptions o = {}) {

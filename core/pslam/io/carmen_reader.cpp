@@ -24,6 +24,7 @@ namespace pslam {
 namespace {
 
 constexpr std::size_t kMaxReportedErrors = 20;
+constexpr std::size_t kMaxUnknownTypes = 16;
 constexpr double kCarmenMaxRange = 80.0;  // CARMEN's guess for old-format lasers (readlog.c)
 constexpr double kDeg = std::numbers::pi / 180.0;
 // A laser pose further than this from the robot pose in the same line is not a mount offset (some
@@ -415,6 +416,11 @@ bool CarmenReader::Impl::HandleLine(Tokens tok) {
     return false;
   }
   ++stats.ignored_unknown;  // SYNC, TRUEPOS, LASER3, ... and names we do not know
+  if (auto it = stats.unknown_by_type.find(type); it != stats.unknown_by_type.end()) {
+    ++it->second;
+  } else if (stats.unknown_by_type.size() < kMaxUnknownTypes) {
+    stats.unknown_by_type.emplace(type, 1);
+  }
   return false;
 }
 

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <deque>
 #include <istream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -26,6 +27,9 @@ struct CarmenReaderOptions {
 
 struct CarmenReadStats {
   std::size_t lines = 0, scans = 0, odometry = 0, params = 0, skipped_corrupt = 0, ignored_unknown = 0;
+  // ignored_unknown by record name ("SYNC" -> 3); names past the first 16 are counted only in the total,
+  // so that a file that is not a CARMEN log cannot grow this without bound.
+  std::map<std::string, std::size_t, std::less<>> unknown_by_type;
   // Records that arrived more than reorder_window_s older than one already released: emitting them
   // would break time order, so they are dropped (and noted in first_errors). Not a corrupt line.
   std::size_t dropped_late = 0;
