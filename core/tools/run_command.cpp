@@ -15,6 +15,7 @@
 #include "pslam/eval/trajectory_io.hpp"
 #include "hypotheses_json.hpp"
 #include "pslam/slam/pslam.hpp"
+#include "pslam/io/carmen_read_summary.hpp"
 #include "pslam/io/carmen_reader.hpp"
 #include "pslam/io/map_io.hpp"
 
@@ -123,6 +124,8 @@ int RunRunCommand(const std::vector<std::string>& args) {
       progress.Show(reader.progress(), static_cast<int>(stamps.size()));
     }
     progress.Finish();
+    for (const auto& e : reader.stats().first_errors) std::fprintf(stderr, "warning: %s\n", e.c_str());
+    RequireScans(reader.stats(), *log_path);
     slam.FlushPredictions();
     slam.ScoreHypotheses();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -149,6 +152,11 @@ int RunRunCommand(const std::vector<std::string>& args) {
     const double duration = last_time - first_time;
     std::printf("scans processed   %d (%d filter updates)\n", s.scans, s.updates);
     std::printf("corrupt lines     %zu skipped\n", rs.skipped_corrupt);
+    std::printf("unknown records   %zu ignored%s\n", rs.ignored_unknown,
+                rs.ignored_unknown ? (" (" + DescribeUnknownTypes(rs) + ")").c_str() : "");
+    std::printf("late records      %zu dropped (out of time order by more than the reorder window)\n", rs.dropped_late);
+    std::printf("no odometry       %zu scans (no robot pose in the line and no ODOM to take one from)\n",
+                scans.scans_without_odometry());
     std::printf("particles         %d on %d threads\n", options.particles, options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency()));
     std::printf("wall time         %.2f s\n", wall);
     std::printf("scans/s           %.1f\n", wall > 0 ? s.scans / wall : 0.0);
@@ -180,7 +188,6 @@ int RunRunCommand(const std::vector<std::string>& args) {
       std::printf("updates weighed   %d with hypothesis points, %d used them (hit-ratio recovery %s)\n",
                   s.updates_with_hypothesis_points, s.updates_using_predictions, options.recovery ? "on" : "off");
     }
-    for (const auto& e : rs.first_errors) std::fprintf(stderr, "warning: %s\n", e.c_str());
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "pslam run: " << e.what() << "\n";

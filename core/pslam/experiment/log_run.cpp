@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "pslam/io/carmen_read_summary.hpp"
 #include "pslam/io/carmen_reader.hpp"
 
 namespace pslam {
@@ -20,6 +21,7 @@ LogRunResult RunLog(const std::string& log_path, PSlamOptions options, const Log
     slam.AddScan(*scan);
     if (progress && stamps.size() % 50 == 0) progress(reader.progress(), static_cast<int>(stamps.size()));
   }
+  RequireScans(reader.stats(), log_path);
   slam.FlushPredictions();
 
   LogRunResult result;

@@ -25,7 +25,7 @@ using LogProgress = std::function<void(double fraction, int scans)>;
 
 // Maps the log with 'options' (heading_targets is forced on: a log has no planner), stopping after
 // 'max_scans' scans when it is positive (quick runs). Throws std::runtime_error when the log
-// cannot be read.
+// cannot be read or holds no laser scans.
 LogRunResult RunLog(const std::string& log_path, PSlamOptions options, const LogProgress& progress = {},
                     int max_scans = 0);
 
