@@ -8,7 +8,7 @@ packages=(
   build-essential cmake ninja-build pkg-config curl ca-certificates
   libeigen3-dev nlohmann-json3-dev libsqlite3-dev sqlite3 zlib1g-dev libbz2-dev libpng-dev
   libboost-dev libboost-system-dev
-  libopencv-dev
+  libopencv-dev libceres-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 if [[ "${1:-}" == "--web" ]]; then
