@@ -37,6 +37,44 @@ std::vector<std::pair<WorldCell, int>> Runs(const World& w, int fixed, int from,
   return runs;
 }
 
+// The free cells reachable from 'from' through free 4-neighbours.
+struct Reachable {
+  const World* world;
+  std::vector<bool> seen;  // row-major over the world's bounds
+  std::size_t count = 0;
+  bool Has(const Eigen::Vector2d& p) const {
+    const Eigen::Vector2i c = world->WorldToCell(p);
+    return world->Contains(c) && seen[Index(c)];
+  }
+  std::size_t Index(const Eigen::Vector2i& c) const {
+    const CellBox& b = world->bounds();
+    return static_cast<std::size_t>(c.y() - b.min.y()) * static_cast<std::size_t>(b.width()) +
+           static_cast<std::size_t>(c.x() - b.min.x());
+  }
+};
+
+Reachable FreeReachable(const World& world, const Eigen::Vector2d& from) {
+  const CellBox& b = world.bounds();
+  Reachable r{&world, std::vector<bool>(static_cast<std::size_t>(b.width()) * static_cast<std::size_t>(b.height()))};
+  std::vector<Eigen::Vector2i> stack;
+  const auto visit = [&](const Eigen::Vector2i& c) {
+    if (!world.IsFree(c) || r.seen[r.Index(c)]) return;  // IsFree is false outside the bounds
+    r.seen[r.Index(c)] = true;
+    ++r.count;
+    stack.push_back(c);
+  };
+  visit(world.WorldToCell(from));
+  while (!stack.empty()) {
+    const Eigen::Vector2i c = stack.back();
+    stack.pop_back();
+    for (const Eigen::Vector2i& d : {Eigen::Vector2i(1, 0), Eigen::Vector2i(-1, 0), Eigen::Vector2i(0, 1),
+                                    Eigen::Vector2i(0, -1)}) {
+      visit(c + d);
+    }
+  }
+  return r;
+}
+
 TEST(SimWorldsTest, CommittedFilesMatchTheGenerator) {
   if (std::getenv("PSLAM_REGENERATE_WORLDS") != nullptr) WriteShippedWorlds(WorldsDir().string());
   for (const ShippedWorld& expected : MakeShippedWorlds()) {
@@ -118,30 +156,7 @@ TEST(SimWorldsTest, IrregularWorldIsConnected) {
   const World world = LoadWorld(Yaml("irregular"));
   const auto start = ReadStartPose(Yaml("irregular"));
   ASSERT_TRUE(start.has_value());
-  // Flood the free cells from the start: every free cell is reachable.
-  std::vector<Eigen::Vector2i> stack{world.WorldToCell(start->translation())};
-  std::vector<bool> seen(world.Count(WorldCell::kFree) + world.Count(WorldCell::kOccupied) +
-                         world.Count(WorldCell::kUnknown));
-  const CellBox& b = world.bounds();
-  const auto index = [&](const Eigen::Vector2i& c) {
-    return static_cast<std::size_t>(c.y() - b.min.y()) * static_cast<std::size_t>(b.width()) +
-           static_cast<std::size_t>(c.x() - b.min.x());
-  };
-  std::size_t reached = 0;
-  seen[index(stack.back())] = true;
-  while (!stack.empty()) {
-    const Eigen::Vector2i c = stack.back();
-    stack.pop_back();
-    ++reached;
-    for (const Eigen::Vector2i& d : {Eigen::Vector2i(1, 0), Eigen::Vector2i(-1, 0), Eigen::Vector2i(0, 1),
-                                    Eigen::Vector2i(0, -1)}) {
-      const Eigen::Vector2i n = c + d;
-      if (!world.IsFree(n) || seen[index(n)]) continue;
-      seen[index(n)] = true;
-      stack.push_back(n);
-    }
-  }
-  EXPECT_EQ(reached, world.Count(WorldCell::kFree));
+  EXPECT_EQ(FreeReachable(world, start->translation()).count, world.Count(WorldCell::kFree));
   // Obstacles take a real share of the room.
   const double occupied_inside = static_cast<double>(world.Count(WorldCell::kOccupied)) * kRes * kRes - 4 * 25.15 * 0.15;
   EXPECT_GT(occupied_inside, 20.0);
