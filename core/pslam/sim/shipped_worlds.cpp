@@ -37,6 +37,7 @@ std::vector<ShippedWorld> MakeShippedWorlds() {
   worlds.push_back(MakeMazeWorld());
   worlds.push_back(MakeOfficeWorld());
   worlds.push_back(MakeIrregularWorld());
+  worlds.push_back(MakeRepetitiveOfficeWorld());
   return worlds;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // The worlds of the paper's simulations (Sec. V-A), rebuilt from their published dimensions, plus
-// an irregular control world, generated here and committed under core/worlds/ (YAML + PGM). The
-// generator is the source of truth; a test checks the committed files still match it.
+// an irregular control world and a long repetitive office, generated here and committed under
+// core/worlds/ (YAML + PGM). The generator is the source of truth; a test checks the committed
+// files still match it.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -62,7 +63,24 @@ struct IrregularLayout {
 };
 ShippedWorld MakeIrregularWorld(const IrregularLayout& layout = {});
 
-// maze, office and irregular with default layouts.
+// A long office where almost everything repeats: two parallel corridors along x, joined at both
+// ends by short cross corridors so that they form one loop around a block of rooms, and identical
+// rooms in four rows: one on the outer side of each corridor and two back to back in the block.
+// Each room has one door to its corridor and a desk. Long stretches that look alike and a loop to
+// close are what a filter and the structure predictor find hardest. Interior spans
+// [0, length] x [0, width], both following from the room sizes (40.1 m x 30.1 m by default).
+struct RepetitiveOfficeLayout {
+  int rooms_per_row = 8;
+  double room_width = 4.4;               // m, inside the walls, along the corridor
+  double room_depth = 6.4;               // m, inside the walls
+  double corridor_width = 2.0;           // m, all four corridors
+  double door_width = 1.0;               // m
+  double interior_wall_thickness = 0.1;  // m
+  double outer_wall_thickness = 0.2;     // m
+};
+ShippedWorld MakeRepetitiveOfficeWorld(const RepetitiveOfficeLayout& layout = {});
+
+// maze, office, irregular and repetitive_office with default layouts.
 std::vector<ShippedWorld> MakeShippedWorlds();
 
 // Writes <dir>/<name>.yaml and <dir>/<name>.pgm for every shipped world; the folder must exist.
