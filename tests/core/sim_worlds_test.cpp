@@ -1,10 +1,11 @@
 // The shipped worlds in core/worlds/: they load, their start poses are free, they still match the
-// generator, and they have the geometry the paper gives.
+// generator, and they have the geometry they are built to (the paper's, for the maze and the office).
 //
 // To regenerate the committed files after changing the generator:
 //   PSLAM_REGENERATE_WORLDS=1 core_tests --gtest_filter='SimWorldsTest.CommittedFilesMatchTheGenerator'
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -15,6 +16,7 @@
 #include "pslam/sim/shipped_worlds.hpp"
 #include "pslam/sim/world.hpp"
 #include "pslam/sim/world_file.hpp"
+#include "pslam/sim/world_painter.hpp"
 
 namespace pslam {
 namespace {
@@ -97,7 +99,7 @@ TEST(SimWorldsTest, CommittedFilesMatchTheGenerator) {
 }
 
 TEST(SimWorldsTest, ShippedWorldsLoadWithFreeStartPosesAndSmallImages) {
-  for (const std::string name : {"maze", "office", "irregular"}) {
+  for (const std::string name : {"maze", "office", "irregular", "repetitive_office"}) {
     SCOPED_TRACE(name);
     const World world = LoadWorld(Yaml(name));
     const auto start = ReadStartPose(Yaml(name));
@@ -160,6 +162,78 @@ TEST(SimWorldsTest, IrregularWorldIsConnected) {
   // Obstacles take a real share of the room.
   const double occupied_inside = static_cast<double>(world.Count(WorldCell::kOccupied)) * kRes * kRes - 4 * 25.15 * 0.15;
   EXPECT_GT(occupied_inside, 20.0);
+}
+
+// The repetitive office's rows of rooms, inside the walls (y, m), and the door walls that face the
+// corridors; the rooms span x 2.1 + 4.5 k .. 6.5 + 4.5 k, k = 0..7.
+constexpr double kRowLo[] = {0.0, 8.6, 15.1, 23.7}, kRowHi[] = {6.4, 15.0, 21.5, 30.1};
+constexpr double kDoorWallLo[] = {6.4, 8.5, 21.5, 23.6};
+
+TEST(SimWorldsTest, RepetitiveOfficeRoomsOpenOnlyThroughTheirDoors) {
+  const World office = LoadWorld(Yaml("repetitive_office"));
+  const Eigen::Vector2d start = ReadStartPose(Yaml("repetitive_office")).value().translation();
+  const Reachable open = FreeReachable(office, start);
+  EXPECT_EQ(open.count, office.Count(WorldCell::kFree));
+  World closed = office;
+  for (const double wall_lo : kDoorWallLo) {
+    SCOPED_TRACE(wall_lo);
+    // Along the door wall from the first room's left wall to the last room's right wall: a 1 m
+    // door 1 m from each room's left wall, the rest wall.
+    const int row = static_cast<int>(std::lround(wall_lo / kRes));
+    const auto runs = Runs(office, row, 40, 762, true);
+    ASSERT_EQ(runs.size(), 17u);
+    for (std::size_t i = 1; i < runs.size(); i += 2) {
+      EXPECT_EQ(runs[i].first, WorldCell::kFree);
+      EXPECT_EQ(runs[i].second, 20);
+    }
+    FillBox(closed, {2.0, wall_lo}, {38.1, wall_lo + 0.1}, WorldCell::kOccupied);
+  }
+  // With the doors shut, only the corridors are left: two 40.1 m x 2 m, two 2 m x 13.1 m.
+  const Reachable shut = FreeReachable(closed, start);
+  EXPECT_NEAR(static_cast<double>(shut.count) * kRes * kRes, 2 * 40.1 * 2.0 + 2 * 2.0 * 13.1, 1e-6);
+  for (int row = 0; row < 4; ++row) {
+    for (int k = 0; k < 8; ++k) {
+      const Eigen::Vector2d centre(4.3 + 4.5 * k, (kRowLo[row] + kRowHi[row]) / 2.0);
+      EXPECT_TRUE(open.Has(centre)) << "room " << k << " of row " << row;
+      EXPECT_FALSE(shut.Has(centre)) << "room " << k << " of row " << row;
+    }
+  }
+}
+
+TEST(SimWorldsTest, RepetitiveOfficeCorridorsFormALoop) {
+  World office = LoadWorld(Yaml("repetitive_office"));
+  const Eigen::Vector2d start = ReadStartPose(Yaml("repetitive_office")).value().translation();
+  // Blocking the south corridor halfway leaves the way round through the north corridor ...
+  FillBox(office, {20.0, 6.5}, {20.5, 8.5}, WorldCell::kOccupied);
+  EXPECT_EQ(FreeReachable(office, start).count, office.Count(WorldCell::kFree));
+  // ... and blocking that too cuts the floor in two.
+  FillBox(office, {20.0, 21.6}, {20.5, 23.6}, WorldCell::kOccupied);
+  const Reachable west = FreeReachable(office, start);
+  EXPECT_TRUE(west.Has({4.3, 3.2}));
+  EXPECT_FALSE(west.Has({36.0, 3.2}));
+  EXPECT_LT(west.count, office.Count(WorldCell::kFree) * 6 / 10);
+}
+
+TEST(SimWorldsTest, RepetitiveOfficeRoomsRepeat) {
+  const World office = LoadWorld(Yaml("repetitive_office"));
+  // 32 rooms of 4.4 m x 6.4 m less a 1.6 m x 0.8 m desk, their doorways, and the corridors.
+  const double area = static_cast<double>(office.Count(WorldCell::kFree)) * kRes * kRes;
+  EXPECT_NEAR(area, 32 * (4.4 * 6.4 - 1.6 * 0.8) + 32 * 1.0 * 0.1 + 2 * 40.1 * 2.0 + 2 * 2.0 * 13.1, 1e-6);
+  const auto differing = [&office](int x0, int x1, int y0, int y1, auto&& other) {
+    int count = 0;
+    for (int y = y0; y < y1; ++y) {
+      for (int x = x0; x < x1; ++x) count += office.At({x, y}) != office.At(other(x, y));
+    }
+    return count;
+  };
+  // Every room, in every row, equals its neighbour shifted by one room and wall (4.5 m = 90 cells).
+  EXPECT_EQ(differing(42, 42 + 7 * 90, 0, 602, [](int x, int y) { return Eigen::Vector2i(x + 90, y); }), 0);
+  // The two rows with the door above are alike, and so are the two with the door below (15.1 m apart) ...
+  const auto north = [](int x, int y) { return Eigen::Vector2i(x, y + 302); };
+  EXPECT_EQ(differing(40, 762, 0, 130, north), 0);
+  EXPECT_EQ(differing(40, 762, 170, 300, north), 0);
+  // ... and mirror images of each other across the south corridor (y -> 15 m - y).
+  EXPECT_EQ(differing(40, 762, 0, 130, [](int x, int y) { return Eigen::Vector2i(x, 299 - y); }), 0);
 }
 
 TEST(SimWorldsTest, ReadStartPoseRejectsMalformedLines) {
