@@ -127,6 +127,7 @@ int RunRunCommand(const std::vector<std::string>& args) {
     for (const auto& e : reader.stats().first_errors) std::fprintf(stderr, "warning: %s\n", e.c_str());
     RequireScans(reader.stats(), *log_path);
     slam.FlushPredictions();
+    slam.FlushLoopClosure();
     slam.ScoreHypotheses();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

@@ -23,6 +23,7 @@ LogRunResult RunLog(const std::string& log_path, PSlamOptions options, const Log
   }
   RequireScans(reader.stats(), log_path);
   slam.FlushPredictions();
+  slam.FlushLoopClosure();
 
   LogRunResult result;
   const std::vector<Pose2D> poses = slam.filter().Trajectory();

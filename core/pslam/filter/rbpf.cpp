@@ -121,6 +121,15 @@ RbpfStep Rbpf::AddScan(const LaserScan& scan) {
   return step;
 }
 
+std::optional<Pose2D> Rbpf::FlushLoopClosure() {
+  if (!loop_closer_ || particles_.empty()) return std::nullopt;
+  auto correction = loop_closer_->Flush();
+  if (!correction) return std::nullopt;
+  const Pose2D move = ApplyCorrection(*correction);
+  last_pose_ = best().pose;
+  return move;
+}
+
 Pose2D Rbpf::ApplyCorrection(const LoopClosureCorrection& correction) {
   const Pose2D old_best = best().pose;
   const Pose2D new_best = correction.node_poses.back();
@@ -136,7 +145,8 @@ Pose2D Rbpf::ApplyCorrection(const LoopClosureCorrection& correction) {
     p.pose = new_best * Between(old_best, p.pose);
     p.map = correction.map;
     p.node = std::make_shared<TrajectoryNode>(TrajectoryNode{p.pose, scan_index, history});
-    for (Pose2D& frame : p.hypothesis_frames) frame = move * frame;
+    // Callers move their hypothesis cells by `move` too (RemoveHypothesis takes them so).
+    for (Pose2D& frame : p.hypothesis_frames) frame = move * frame * move.inverse();
   }
   if (has_hypotheses_) {
     pool_.ParallelFor(static_cast<int>(particles_.size()), [&](int i) {

@@ -6,6 +6,7 @@
 // scan likelihood, and the set is resampled when N_eff falls low. Then the scan is inserted.
 #include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "pslam/common/parallel_for.hpp"
@@ -76,6 +77,9 @@ class Rbpf {
   explicit Rbpf(const RbpfOptions& options);
 
   RbpfStep AddScan(const LaserScan& scan);
+  // Applies the loop closures still waiting for an optimisation (at the end of a log); returns
+  // the correction (as RbpfStep::correction) when the maps and trajectory changed.
+  std::optional<Pose2D> FlushLoopClosure();
 
   const std::vector<Particle>& particles() const { return particles_; }
   int best_index() const { return best_; }
@@ -92,8 +96,9 @@ class Rbpf {
   // Cells a particle has already observed are left out: hypotheses only cover unexplored space.
   // Returns the hypothesis's index into Particle::hypothesis_frames (-1 before the first scan).
   int AddHypothesis(const std::vector<PredictedCell>& cells);
-  // Takes cells of hypothesis 'index' (in the best particle's frame when it was added) out of
-  // every particle's hypothesis map again (a refuted or expired hypothesis).
+  // Takes cells of hypothesis 'index' (in the best particle's frame when it was added, moved by
+  // every loop correction since) out of every particle's hypothesis map again (a refuted or
+  // expired hypothesis).
   void RemoveHypothesis(int index, const std::vector<PredictedCell>& cells);
 
   // The best particle's pose at every scan added so far: its own poses at updates, and in between

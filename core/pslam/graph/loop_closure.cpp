@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <queue>
 #include <unordered_set>
 
 namespace pslam {
@@ -26,24 +28,33 @@ std::optional<LoopClosureCorrection> LoopCloser::AddNode(int scan_index, const P
   int n = 0;
   if (nodes_.empty()) {
     n = graph_.AddNode(pose);
+    links_.resize(1);
   } else {
     // The filter's own motion since the previous node links the two; the new node starts where
     // that motion takes the previous node's (possibly optimised) pose.
     const Pose2D motion = Between(last_filter_pose_, pose);
     n = graph_.AddNode(graph_.pose(graph_.size() - 1) * motion);
     graph_.AddEdge({n - 1, n, motion, SqrtInformation(options_.odometry_sigma_xy, options_.odometry_sigma_theta), 0.0});
+    Link(n - 1, n, std::hypot(motion.x, motion.y));
     node.path_length = nodes_.back().path_length + std::hypot(motion.x, motion.y);
   }
   last_filter_pose_ = pose;
   nodes_.push_back(std::move(node));
   ++stats_.nodes;
   AddToSubmap(n);
-  if (n % std::max(1, options_.check_every_nodes) == 0) SearchClosures(n);
+  if (n % std::max(1, options_.check_every_nodes) == 0 && n >= last_closure_node_any_ + options_.rest_after_closure) {
+    SearchClosures(n);
+  }
   if (pending_closures_ > 0 && (n - last_optimized_node_ >= options_.optimize_every_nodes ||
                                 pending_correction_ > options_.immediate_correction)) {
     return Optimize(n);
   }
   return std::nullopt;
+}
+
+std::optional<LoopClosureCorrection> LoopCloser::Flush() {
+  if (pending_closures_ == 0) return std::nullopt;
+  return Optimize(graph_.size() - 1);
 }
 
 void LoopCloser::AddToSubmap(int n) {
@@ -78,34 +89,61 @@ std::vector<Eigen::Vector2f> LoopCloser::MatchCloud(int n) const {
   return cloud;
 }
 
+void LoopCloser::Link(int a, int b, double length) {
+  const auto need = static_cast<std::size_t>(std::max(a, b)) + 1;
+  if (links_.size() < need) links_.resize(need);
+  links_[static_cast<std::size_t>(a)].emplace_back(b, length);
+  links_[static_cast<std::size_t>(b)].emplace_back(a, length);
+}
+
+std::vector<double> LoopCloser::GraphDistances(int from) const {
+  std::vector<double> distance(links_.size(), std::numeric_limits<double>::infinity());
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
+  distance[static_cast<std::size_t>(from)] = 0.0;
+  open.emplace(0.0, from);
+  while (!open.empty()) {
+    const auto [d, k] = open.top();
+    open.pop();
+    if (d > distance[static_cast<std::size_t>(k)]) continue;
+    for (const auto& [next, length] : links_[static_cast<std::size_t>(k)]) {
+      if (d + length < distance[static_cast<std::size_t>(next)]) {
+        distance[static_cast<std::size_t>(next)] = d + length;
+        open.emplace(d + length, next);
+      }
+    }
+  }
+  return distance;
+}
+
 void LoopCloser::SearchClosures(int n) {
   const auto start = std::chrono::steady_clock::now();
   const int eligible = static_cast<int>(submaps_.size()) - 1 - options_.recent_submaps;
   struct Candidate {
     int submap;
-    double distance;
+    double distance;        // metres, in the map
+    double graph_distance;  // metres, through the graph
   };
   std::vector<Candidate> candidates;
   const Eigen::Vector2d here = graph_.pose(n).translation();
-  const double travelled = nodes_[static_cast<std::size_t>(n)].path_length;
+  const std::vector<double> distance = GraphDistances(n);
   for (int s = 0; s <= eligible; ++s) {
     const Submap& submap = submaps_[static_cast<std::size_t>(s)];
     if (!submap.finished) continue;
     if (last_closure_node_[static_cast<std::size_t>(s)] >= n - options_.nodes_per_submap / 2) continue;
-    double nearest = 1e18;
+    double nearest = 1e18, through_graph = 1e18;
     for (int k = submap.first_node; k <= submap.last_node; ++k) {
       nearest = std::min(nearest, (graph_.pose(k).translation() - here).norm());
+      through_graph = std::min(through_graph, distance[static_cast<std::size_t>(k)]);
     }
-    const double window = std::clamp(options_.base_window +
-                                         options_.window_per_metre * (travelled - nodes_[static_cast<std::size_t>(submap.last_node)].path_length),
-                                     options_.base_window, options_.max_window);
-    if (nearest <= window + 3.0) candidates.push_back({s, nearest});
+    const double window = std::min(options_.base_window + options_.window_per_metre * through_graph, options_.max_window);
+    if (nearest <= window + 3.0) candidates.push_back({s, nearest, through_graph});
   }
   std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) { return a.distance < b.distance; });
   if (static_cast<int>(candidates.size()) > options_.max_candidates) candidates.resize(static_cast<std::size_t>(options_.max_candidates));
   if (!candidates.empty()) {
     const std::vector<Eigen::Vector2f> cloud = MatchCloud(n);
-    for (const Candidate& c : candidates) TryClosure(n, c.submap, cloud);
+    for (const Candidate& c : candidates) TryClosure(n, c.submap, c.graph_distance, cloud);
   }
   stats_.search_ms += MsSince(start);
 }
@@ -129,17 +167,15 @@ const MaxPoolStack& LoopCloser::SearchGrid(int submap) {
   return *oldest.stack;
 }
 
-bool LoopCloser::TryClosure(int n, int s, const std::vector<Eigen::Vector2f>& cloud) {
+bool LoopCloser::TryClosure(int n, int s, double graph_distance, const std::vector<Eigen::Vector2f>& cloud) {
   if (cloud.size() < 20) return false;
   ++stats_.searches;
   const Submap& submap = submaps_[static_cast<std::size_t>(s)];
   const Pose2D guess = Between(graph_.pose(submap.first_node), graph_.pose(n));
-  const double travelled = nodes_[static_cast<std::size_t>(n)].path_length -
-                           nodes_[static_cast<std::size_t>(submap.last_node)].path_length;
   BranchAndBoundOptions search{
-      .linear_window = std::clamp(options_.base_window + options_.window_per_metre * travelled, options_.base_window,
-                                  options_.max_window),
-      .angular_window = options_.angular_window,
+      .linear_window = std::min(options_.base_window + options_.window_per_metre * graph_distance, options_.max_window),
+      .angular_window = std::min(options_.base_angular_window + options_.angular_window_per_metre * graph_distance,
+                                 options_.max_angular_window),
       .min_score = options_.min_score};
   const MaxPoolStack& grid = SearchGrid(s);
   const BranchAndBoundResult best = MatchByBranchAndBound(grid, cloud, guess, search);
@@ -160,11 +196,13 @@ bool LoopCloser::TryClosure(int n, int s, const std::vector<Eigen::Vector2f>& cl
   if (refined.converged) measured = refined.pose;
   graph_.AddEdge({submap.first_node, n, measured, SqrtInformation(options_.loop_sigma_xy, options_.loop_sigma_theta),
                   options_.huber_scale});
+  Link(submap.first_node, n, options_.closure_length);
   const Pose2D asked = Between(guess, measured);
   pending_correction_ = std::max(pending_correction_, std::hypot(asked.x, asked.y));
   ++pending_closures_;
   ++stats_.closures;
   last_closure_node_[static_cast<std::size_t>(s)] = n;
+  last_closure_node_any_ = n;
   return true;
 }
 
@@ -179,6 +217,10 @@ std::optional<LoopClosureCorrection> LoopCloser::Optimize(int n) {
   if (removed > 0) {
     stats_.outliers += removed;
     graph_.Optimize();
+    links_.assign(nodes_.size(), {});
+    for (const PoseGraphEdge& e : graph_.edges()) {
+      Link(e.from, e.to, e.huber_scale > 0.0 ? options_.closure_length : std::hypot(e.measurement.x, e.measurement.y));
+    }
   }
   ++stats_.optimizations;
   stats_.optimize_ms += MsSince(start);

@@ -45,7 +45,10 @@ class LoopCloser {
 
   // Adds the filter's pose at an update, with the scan it inserted. Returns a correction when the
   // graph was optimised and moved some node enough to re-render the map.
+  // After a correction, the caller continues from the corrected pose of the newest node.
   std::optional<LoopClosureCorrection> AddNode(int scan_index, const Pose2D& pose, const ScanPoints& points);
+  // Optimises the closures found since the last optimisation (at the end of a log).
+  std::optional<LoopClosureCorrection> Flush();
 
   const LoopClosureStats& stats() const { return stats_; }
   const PoseGraph& graph() const { return graph_; }
@@ -60,8 +63,11 @@ class LoopCloser {
 
   void AddToSubmap(int node);
   void SearchClosures(int node);
-  bool TryClosure(int node, int submap, const std::vector<Eigen::Vector2f>& cloud);
+  bool TryClosure(int node, int submap, double graph_distance, const std::vector<Eigen::Vector2f>& cloud);
+  void Link(int a, int b, double length);
   std::vector<Eigen::Vector2f> MatchCloud(int node) const;
+  // Graph distance (see LoopClosureOptions::closure_length) from `node` to every node.
+  std::vector<double> GraphDistances(int node) const;
   const MaxPoolStack& SearchGrid(int submap);
   std::optional<LoopClosureCorrection> Optimize(int node);
   OccupancyGrid Render() const;
@@ -72,7 +78,9 @@ class LoopCloser {
   PoseGraph graph_;
   std::vector<Node> nodes_;
   std::vector<Submap> submaps_;
+  std::vector<std::vector<std::pair<int, double>>> links_;  // per node: (neighbour, length)
   std::vector<int> last_closure_node_;   // per submap, the node of its latest closure (-1: none)
+  int last_closure_node_any_ = -1;        // the node of the latest closure to any submap
   struct CachedGrid {
     int submap = -1;
     std::unique_ptr<MaxPoolStack> stack;

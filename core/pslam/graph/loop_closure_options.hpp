@@ -15,12 +15,18 @@ struct LoopClosureOptions {
   int context_nodes = 5;           // the newest nodes' hits together form the matched cloud
   double cloud_spacing = 0.15;     // metres between kept cloud points
   double cloud_max_range = 12.0;   // metres from the node
-  // The linear search window grows with the path travelled since the submap was built, as
-  // odometry-like drift does, up to max_window.
+  // The search windows grow with the graph distance from the node to the submap: the shortest path
+  // through the pose graph, where the filter's motion counts its length and a closure counts
+  // closure_length. Right after a loop was closed the robot's place in the old map is known to
+  // centimetres; after a long excursion it may be metres and tens of degrees off.
   double base_window = 1.0;        // metres
   double window_per_metre = 0.05;
-  double max_window = 4.0;         // metres
-  double angular_window = 0.45;    // radians each way
+  double max_window = 7.0;         // metres
+  double base_angular_window = 0.15;    // radians each way
+  double angular_window_per_metre = 0.01;
+  double max_angular_window = 0.7;
+  double closure_length = 0.5;      // metres
+  int rest_after_closure = 8;      // nodes without a search after a closure: it holds for a while
   int search_depth = 6;            // max-pooled levels of the branch-and-bound search (2^6 cells)
   double min_score = 0.55;         // mean occupancy probability of the matched cloud
   // A closure is ambiguous (a repeated room, a uniform corridor) when a pose this far from the
@@ -39,11 +45,11 @@ struct LoopClosureOptions {
   double outlier_sigma = 6.0;          // a closure further off than this after optimising is removed
   // When to optimise: after new closures, once every so many nodes, or at once when a closure
   // moves the robot further than immediate_correction.
-  int optimize_every_nodes = 20;
+  int optimize_every_nodes = 40;
   double immediate_correction = 0.1;   // metres
   // The filter's maps are re-rendered from the optimised poses when some node moved this far.
-  double rebuild_translation = 0.02;   // metres
-  double rebuild_rotation = 0.005;     // radians
+  double rebuild_translation = 0.05;   // metres
+  double rebuild_rotation = 0.01;      // radians
   int cached_search_grids = 16;        // max-pooled submap stacks kept between checks
 };
 

@@ -25,6 +25,19 @@ Pose2D ReferenceToTarget(const Hypothesis& hypothesis) {
   return AlignmentTransform(hypothesis.target_control_point, hypothesis.reference_control_point, hypothesis.theta);
 }
 
+void MoveHypothesis(Hypothesis& h, const Pose2D& move, double resolution) {
+  const OccupancyGrid lattice(resolution);
+  const auto cell = [&](const Eigen::Vector2i& c) { return lattice.WorldToCell(move * lattice.CellCenter(c)); };
+  for (HypothesisCell& c : h.cells) c.cell = cell(c.cell);
+  for (HypothesisCell& c : h.undecided_cells) c.cell = cell(c.cell);
+  h.target_cell = cell(h.target_cell);
+  h.reference_cell = cell(h.reference_cell);
+  // Gamma conjugated by the move: the same rotation, between the moved control points.
+  h.target_control_point = move * h.target_control_point;
+  h.reference_control_point = move * h.reference_control_point;
+  h.translation = h.target_control_point - h.reference_control_point;
+}
+
 double ObservedSimilarity(const Hypothesis& hypothesis, const OccupancyGrid& later_map,
                           const CellStateThresholds& thresholds, int tolerance_cells) {
   CellBox box;

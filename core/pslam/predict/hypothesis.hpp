@@ -48,6 +48,10 @@ struct Hypothesis {
 // Gamma as a rigid transform in map metres: a reference point x maps to ReferenceToTarget(h) * x.
 Pose2D ReferenceToTarget(const Hypothesis& hypothesis);
 
+// Moves a hypothesis with its map when a loop closure corrects the map by `move` (new frame from
+// old): its cells (nearest cell), target and reference cells and control points.
+void MoveHypothesis(Hypothesis& hypothesis, const Pose2D& move, double resolution);
+
 // Psi (eq. 5, occupied cells only, same tolerance as the search) between the hypothesis and
 // 'later_map' over the hypothesis cells observed since it was made and decided there (occupied or
 // free; a cell seen once or twice may still be uncertain, which is no evidence either way): how

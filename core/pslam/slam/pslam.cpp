@@ -75,6 +75,7 @@ void PSlam::SetTarget(const Eigen::Vector2i& cell, double time) {
   // the busy predictor drops leaves predicted_target_ alone, so the next target asks again.
   OccupancyGrid input = options_.predict_on_merged_map ? MergedMap(options_.predict_from_psi) : filter_.best().map;
   if (predictor_->Request(std::move(input), cell, time)) {
+    move_since_request_ = Pose2D();
     predicted_target_ = cell;
     ++stats_.new_targets;
   }
@@ -84,6 +85,7 @@ PSlamStep PSlam::AddScan(const LaserScan& scan) {
   PSlamStep step;
   last_time_ = scan.timestamp;
   step.filter = filter_.AddScan(scan);
+  if (step.filter.loop_corrected) FollowCorrection(step.filter.correction);
   if (!predictor_) return step;
   TakePrediction(scan.timestamp);
   if (step.filter.updated) {
@@ -91,6 +93,30 @@ PSlamStep PSlam::AddScan(const LaserScan& scan) {
     if (options_.heading_targets) MaybeRetargetFromHeading(scan.timestamp);
   }
   return step;
+}
+
+void PSlam::FollowCorrection(const Pose2D& move) {
+  const double resolution = options_.filter.resolution;
+  const OccupancyGrid lattice(resolution);
+  const auto cell = [&](const Eigen::Vector2i& c) { return lattice.WorldToCell(move * lattice.CellCenter(c)); };
+  coverage_ = PredictionCoverage(resolution);
+  for (std::size_t i = 0; i < hypotheses_.size(); ++i) {
+    MoveHypothesis(hypotheses_[i], move, resolution);
+    MoveHypothesis(originals_[i], move, resolution);
+    if (!Covering(hypotheses_[i].status)) continue;
+    coverage_.Add(hypotheses_[i].cells);
+    coverage_.Add(hypotheses_[i].undecided_cells);
+  }
+  if (target_) target_ = cell(*target_);
+  if (predicted_target_) predicted_target_ = cell(*predicted_target_);
+  target_set_at_ = move * target_set_at_;
+  move_since_request_ = move * move_since_request_;
+}
+
+bool PSlam::FlushLoopClosure() {
+  const std::optional<Pose2D> move = filter_.FlushLoopClosure();
+  if (move) FollowCorrection(*move);
+  return move.has_value();
 }
 
 void PSlam::MaybeRetargetFromHeading(double time) {
@@ -106,7 +132,11 @@ void PSlam::MaybeRetargetFromHeading(double time) {
 void PSlam::TakePrediction(double time) {
   std::optional<Hypothesis> h = predictor_->TakeResult();
   if (!h || h->cells.empty()) return;
-  TakeExplored(*h, filter_.best().map);  // the map moved on while the predictor worked
+  // The map may have been corrected, and has moved on, while the predictor worked.
+  if (move_since_request_.x != 0.0 || move_since_request_.y != 0.0 || move_since_request_.theta != 0.0) {
+    MoveHypothesis(*h, move_since_request_, options_.filter.resolution);
+  }
+  TakeExplored(*h, filter_.best().map);
   if (h->cells.empty()) return;
   filter_index_.push_back(filter_.AddHypothesis(ToPredictedCells(*h)));
   coverage_.Add(h->cells);

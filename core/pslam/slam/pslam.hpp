@@ -76,12 +76,16 @@ class PSlam {
   void ScoreHypotheses();
   // Waits for a running prediction to finish and takes its result (end of a log, tests).
   void FlushPredictions();
+  // Applies loop closures still waiting for an optimisation (end of a log); true if the maps changed.
+  bool FlushLoopClosure();
 
  private:
   void TakePrediction(double time);
   void JudgeHypotheses(const RbpfStep& step, double time, std::vector<int>& changed);
   void SetStatus(std::size_t index, Hypothesis::Status status, double time);
   void MaybeRetargetFromHeading(double time);
+  // Moves the hypotheses, coverage and targets with a loop-corrected map.
+  void FollowCorrection(const Pose2D& move);
 
   PSlamOptions options_;
   Rbpf filter_;
@@ -98,6 +102,7 @@ class PSlam {
   Eigen::Vector2d target_set_at_ = Eigen::Vector2d::Zero();
   PSlamStats stats_;
   double last_time_ = 0.0;
+  Pose2D move_since_request_;            // loop corrections since the running prediction was asked
 };
 
 const char* StatusName(Hypothesis::Status status);
