@@ -85,7 +85,7 @@ PSlamStep PSlam::AddScan(const LaserScan& scan) {
   PSlamStep step;
   last_time_ = scan.timestamp;
   step.filter = filter_.AddScan(scan);
-  if (step.filter.loop_corrected) FollowCorrection(step.filter.correction);
+  if (step.filter.loop_corrected) FollowCorrection(step.filter.correction, &step.changed_hypotheses);
   if (!predictor_) return step;
   TakePrediction(scan.timestamp);
   if (step.filter.updated) {
@@ -95,7 +95,7 @@ PSlamStep PSlam::AddScan(const LaserScan& scan) {
   return step;
 }
 
-void PSlam::FollowCorrection(const Pose2D& move) {
+void PSlam::FollowCorrection(const Pose2D& move, std::vector<int>* changed) {
   const double resolution = options_.filter.resolution;
   const OccupancyGrid lattice(resolution);
   const auto cell = [&](const Eigen::Vector2i& c) { return lattice.WorldToCell(move * lattice.CellCenter(c)); };
@@ -103,6 +103,7 @@ void PSlam::FollowCorrection(const Pose2D& move) {
   for (std::size_t i = 0; i < hypotheses_.size(); ++i) {
     MoveHypothesis(hypotheses_[i], move, resolution);
     MoveHypothesis(originals_[i], move, resolution);
+    if (changed) changed->push_back(hypotheses_[i].id);
     if (!Covering(hypotheses_[i].status)) continue;
     coverage_.Add(hypotheses_[i].cells);
     coverage_.Add(hypotheses_[i].undecided_cells);
@@ -115,7 +116,7 @@ void PSlam::FollowCorrection(const Pose2D& move) {
 
 bool PSlam::FlushLoopClosure() {
   const std::optional<Pose2D> move = filter_.FlushLoopClosure();
-  if (move) FollowCorrection(*move);
+  if (move) FollowCorrection(*move, nullptr);
   return move.has_value();
 }
 

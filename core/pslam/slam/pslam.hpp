@@ -84,8 +84,8 @@ class PSlam {
   void JudgeHypotheses(const RbpfStep& step, double time, std::vector<int>& changed);
   void SetStatus(std::size_t index, Hypothesis::Status status, double time);
   void MaybeRetargetFromHeading(double time);
-  // Moves the hypotheses, coverage and targets with a loop-corrected map.
-  void FollowCorrection(const Pose2D& move);
+  // Moves the hypotheses, coverage and targets with a loop-corrected map; `changed` gets their ids.
+  void FollowCorrection(const Pose2D& move, std::vector<int>* changed);
 
   PSlamOptions options_;
   Rbpf filter_;

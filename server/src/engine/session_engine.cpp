@@ -165,6 +165,18 @@ void SessionEngine::Loop(BacklogReader backlog, std::int64_t backlog_until) {
   }
 }
 
+// A loop closure corrected the past: viewers and storage get the whole corrected trajectory.
+void SessionEngine::ReplaceTrajectory() {
+  const std::vector<Pose2D> corrected = pipeline_->Trajectory();
+  for (std::size_t i = 0; i < online_.size() && i < corrected.size(); ++i) {
+    online_[i].x = corrected[i].x;
+    online_[i].y = corrected[i].y;
+    online_[i].theta = corrected[i].theta;
+  }
+  live_trajectory_sent_ = 0;
+  stored_trajectory_replaced_ = true;
+}
+
 void SessionEngine::Process(const InputRecord& input, std::optional<SteadyTime> received) {
   if (input.seq <= processed_seq_.load()) return;  // already in the filter
   const SteadyTime start = SteadyNow();
@@ -174,6 +186,7 @@ void SessionEngine::Process(const InputRecord& input, std::optional<SteadyTime> 
   if (step.scan) {
     online_.push_back({static_cast<std::int64_t>(online_.size()), input.seq, input.t, input.stamp, step.filter.pose.x,
                        step.filter.pose.y, step.filter.pose.theta});
+    if (step.filter.loop_corrected) ReplaceTrajectory();
     recent_scans_.push_back(SteadyNow());
     RecordTiming(received ? SecondsSince(*received) * 1e3 : -1.0, step_ms);
   }
@@ -336,9 +349,13 @@ void SessionEngine::WriteCheckpoint(bool final_checkpoint) {
       c.trajectory[i].y = smoothed[i].y;
       c.trajectory[i].theta = smoothed[i].theta;
     }
+  } else if (stored_trajectory_replaced_) {
+    c.replace_trajectory = true;
+    c.trajectory = online_;
   } else {
     c.trajectory.assign(online_.begin() + static_cast<std::ptrdiff_t>(stored_trajectory_sent_), online_.end());
   }
+  stored_trajectory_replaced_ = false;
   stored_trajectory_sent_ = online_.size();
   c.stats = CurrentStats();
   c.hypotheses = std::move(stored_hypotheses_);

@@ -84,6 +84,7 @@ class SessionEngine {
 
   void Loop(BacklogReader backlog, std::int64_t backlog_until);
   void Process(const InputRecord& input, std::optional<SteadyTime> received);
+  void ReplaceTrajectory();
   void TakePlan();
   void SendTarget(const ExplorationTarget& target);  // to the viewers and (unless rebuilding) the agent
   void PublishLive(bool final_tick = false);
@@ -107,6 +108,7 @@ class SessionEngine {
   std::vector<TrajectoryRow> online_;            // per scan: seq, time, online pose estimate
   std::size_t live_trajectory_sent_ = 0;
   std::size_t stored_trajectory_sent_ = 0;
+  bool stored_trajectory_replaced_ = false;      // a loop closure rewrote online_ since the last checkpoint
   std::vector<HypothesisRecord> live_hypotheses_, stored_hypotheses_;
   std::vector<std::int64_t> live_removed_;
   std::optional<ExplorationTarget> live_target_;
