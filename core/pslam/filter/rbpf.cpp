@@ -15,7 +15,7 @@ namespace pslam {
 Rbpf::Rbpf(const RbpfOptions& options)
     : options_(options), inserter_(options.insert), pool_(options.threads) {
   if (options_.loop_closure.enabled) {
-    loop_closer_ = std::make_unique<LoopCloser>(options_.loop_closure, options_.insert, options_.resolution);
+    loop_closer_ = std::make_unique<LoopCloser>(options_.loop_closure, options_.insert, options_.resolution, &pool_);
   }
 }
 

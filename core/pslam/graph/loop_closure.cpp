@@ -20,8 +20,9 @@ Eigen::Matrix3d SqrtInformation(double sigma_xy, double sigma_theta) {
 
 }  // namespace
 
-LoopCloser::LoopCloser(const LoopClosureOptions& options, const ScanInsertOptions& insert, double resolution)
-    : options_(options), inserter_(insert), resolution_(resolution) {}
+LoopCloser::LoopCloser(const LoopClosureOptions& options, const ScanInsertOptions& insert, double resolution,
+                       ThreadPool* pool)
+    : options_(options), inserter_(insert), resolution_(resolution), pool_(pool) {}
 
 std::optional<LoopClosureCorrection> LoopCloser::AddNode(int scan_index, const Pose2D& pose, const ScanPoints& points) {
   Node node{scan_index, points, 0.0};
@@ -141,9 +142,24 @@ void LoopCloser::SearchClosures(int n) {
   }
   std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) { return a.distance < b.distance; });
   if (static_cast<int>(candidates.size()) > options_.max_candidates) candidates.resize(static_cast<std::size_t>(options_.max_candidates));
-  if (!candidates.empty()) {
-    const std::vector<Eigen::Vector2f> cloud = MatchCloud(n);
-    for (const Candidate& c : candidates) TryClosure(n, c.submap, c.graph_distance, cloud);
+  const std::vector<Eigen::Vector2f> cloud = candidates.empty() ? std::vector<Eigen::Vector2f>() : MatchCloud(n);
+  if (cloud.size() >= 20) {
+    // The searches are independent: run them in parallel, then accept in candidate order, so the
+    // outcome does not depend on the thread count.
+    std::vector<const MaxPoolStack*> grids;
+    for (const Candidate& c : candidates) grids.push_back(&SearchGrid(c.submap));
+    std::vector<Match> matches(candidates.size());
+    const auto search = [&](int i) {
+      const Candidate& c = candidates[static_cast<std::size_t>(i)];
+      matches[static_cast<std::size_t>(i)] = MatchAgainst(n, c.submap, c.graph_distance, *grids[static_cast<std::size_t>(i)], cloud);
+    };
+    if (pool_) pool_->ParallelFor(static_cast<int>(candidates.size()), search);
+    else for (int i = 0; i < static_cast<int>(candidates.size()); ++i) search(i);
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+      ++stats_.searches;
+      if (matches[i].ambiguous) ++stats_.ambiguous;
+      if (matches[i].found) Accept(n, candidates[i].submap, matches[i]);
+    }
   }
   stats_.search_ms += MsSince(start);
 }
@@ -167,43 +183,47 @@ const MaxPoolStack& LoopCloser::SearchGrid(int submap) {
   return *oldest.stack;
 }
 
-bool LoopCloser::TryClosure(int n, int s, double graph_distance, const std::vector<Eigen::Vector2f>& cloud) {
-  if (cloud.size() < 20) return false;
-  ++stats_.searches;
+LoopCloser::Match LoopCloser::MatchAgainst(int n, int s, double graph_distance, const MaxPoolStack& grid,
+                                           const std::vector<Eigen::Vector2f>& cloud) const {
+  Match out;
   const Submap& submap = submaps_[static_cast<std::size_t>(s)];
-  const Pose2D guess = Between(graph_.pose(submap.first_node), graph_.pose(n));
+  out.guess = Between(graph_.pose(submap.first_node), graph_.pose(n));
   BranchAndBoundOptions search{
       .linear_window = std::min(options_.base_window + options_.window_per_metre * graph_distance, options_.max_window),
       .angular_window = std::min(options_.base_angular_window + options_.angular_window_per_metre * graph_distance,
                                  options_.max_angular_window),
       .min_score = options_.min_score};
-  const MaxPoolStack& grid = SearchGrid(s);
-  const BranchAndBoundResult best = MatchByBranchAndBound(grid, cloud, guess, search);
-  if (!best.found) return false;
+  const BranchAndBoundResult best = MatchByBranchAndBound(grid, cloud, out.guess, search);
+  if (!best.found) return out;
   // The best pose elsewhere: if it scores nearly as well, the place repeats and the match says
   // nothing about which copy the robot is in.
   search.min_score = options_.ambiguity_ratio * best.score;
-  const BranchAndBoundResult alternative = MatchByBranchAndBound(grid, cloud, guess, search, [&](const Pose2D& p) {
+  const BranchAndBoundResult alternative = MatchByBranchAndBound(grid, cloud, out.guess, search, [&](const Pose2D& p) {
     return std::hypot(p.x - best.pose.x, p.y - best.pose.y) < options_.ambiguity_distance &&
            std::abs(NormalizeAngle(p.theta - best.pose.theta)) < options_.ambiguity_angle;
   });
   if (alternative.found) {
-    ++stats_.ambiguous;
-    return false;
+    out.ambiguous = true;
+    return out;
   }
-  Pose2D measured = best.pose;
+  out.found = true;
+  out.measured = best.pose;
   const ScanMatchResult refined = MatchScan(submap.grid, cloud, best.pose, options_.refine);
-  if (refined.converged) measured = refined.pose;
-  graph_.AddEdge({submap.first_node, n, measured, SqrtInformation(options_.loop_sigma_xy, options_.loop_sigma_theta),
-                  options_.huber_scale});
+  if (refined.converged) out.measured = refined.pose;
+  return out;
+}
+
+void LoopCloser::Accept(int n, int s, const Match& match) {
+  const Submap& submap = submaps_[static_cast<std::size_t>(s)];
+  graph_.AddEdge({submap.first_node, n, match.measured,
+                  SqrtInformation(options_.loop_sigma_xy, options_.loop_sigma_theta), options_.huber_scale});
   Link(submap.first_node, n, options_.closure_length);
-  const Pose2D asked = Between(guess, measured);
+  const Pose2D asked = Between(match.guess, match.measured);
   pending_correction_ = std::max(pending_correction_, std::hypot(asked.x, asked.y));
   ++pending_closures_;
   ++stats_.closures;
   last_closure_node_[static_cast<std::size_t>(s)] = n;
   last_closure_node_any_ = n;
-  return true;
 }
 
 std::optional<LoopClosureCorrection> LoopCloser::Optimize(int n) {

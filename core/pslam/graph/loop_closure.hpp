@@ -8,6 +8,7 @@
 #include <optional>
 #include <vector>
 
+#include "pslam/common/parallel_for.hpp"
 #include "pslam/graph/branch_and_bound_matcher.hpp"
 #include "pslam/graph/loop_closure_options.hpp"
 #include "pslam/graph/pose_graph.hpp"
@@ -41,7 +42,9 @@ struct LoopClosureCorrection {
 
 class LoopCloser {
  public:
-  LoopCloser(const LoopClosureOptions& options, const ScanInsertOptions& insert, double resolution);
+  // `pool`, when given, runs the searches of one node in parallel.
+  LoopCloser(const LoopClosureOptions& options, const ScanInsertOptions& insert, double resolution,
+             ThreadPool* pool = nullptr);
 
   // Adds the filter's pose at an update, with the scan it inserted. Returns a correction when the
   // graph was optimised and moved some node enough to re-render the map.
@@ -63,7 +66,15 @@ class LoopCloser {
 
   void AddToSubmap(int node);
   void SearchClosures(int node);
-  bool TryClosure(int node, int submap, double graph_distance, const std::vector<Eigen::Vector2f>& cloud);
+  struct Match {
+    bool found = false;
+    bool ambiguous = false;
+    Pose2D guess;      // the node in the submap's frame, as the graph has it
+    Pose2D measured;   // ... as the match says
+  };
+  Match MatchAgainst(int node, int submap, double graph_distance, const MaxPoolStack& grid,
+                     const std::vector<Eigen::Vector2f>& cloud) const;
+  void Accept(int node, int submap, const Match& match);
   void Link(int a, int b, double length);
   std::vector<Eigen::Vector2f> MatchCloud(int node) const;
   // Graph distance (see LoopClosureOptions::closure_length) from `node` to every node.
@@ -75,6 +86,7 @@ class LoopCloser {
   LoopClosureOptions options_;
   ScanInserter inserter_;
   double resolution_;
+  ThreadPool* pool_;
   PoseGraph graph_;
   std::vector<Node> nodes_;
   std::vector<Submap> submaps_;

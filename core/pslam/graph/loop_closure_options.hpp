@@ -11,7 +11,7 @@ struct LoopClosureOptions {
   int recent_submaps = 2;          // the newest submaps are what tracking matches against: skipped
   // Which nodes look for a closure, and where.
   int check_every_nodes = 3;
-  int max_candidates = 2;          // nearest eligible submaps tried per check
+  int max_candidates = 3;          // nearest eligible submaps tried per check
   int context_nodes = 5;           // the newest nodes' hits together form the matched cloud
   double cloud_spacing = 0.15;     // metres between kept cloud points
   double cloud_max_range = 12.0;   // metres from the node
@@ -20,10 +20,10 @@ struct LoopClosureOptions {
   // closure_length. Right after a loop was closed the robot's place in the old map is known to
   // centimetres; after a long excursion it may be metres and tens of degrees off.
   double base_window = 1.0;        // metres
-  double window_per_metre = 0.05;
+  double window_per_metre = 0.2;
   double max_window = 7.0;         // metres
   double base_angular_window = 0.15;    // radians each way
-  double angular_window_per_metre = 0.01;
+  double angular_window_per_metre = 0.03;
   double max_angular_window = 0.7;
   double closure_length = 0.5;      // metres
   int rest_after_closure = 8;      // nodes without a search after a closure: it holds for a while
