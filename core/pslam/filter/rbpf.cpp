@@ -80,6 +80,7 @@ RbpfStep Rbpf::AddScan(const LaserScan& scan) {
   const Particle& tracker = best();
   const Pose2D guess = tracker.pose * Between(odometry_at_update_, scan.odometry);
   const ScanMatchResult tracked = MatchScan(tracker.map, points.hits, guess, options_.tracking_match);
+  step.tracking_score = tracked.score;
   const Pose2D motion = Between(tracker.pose, tracked.pose);
   tracked_.push_back(motion);
   last_pose_ = tracked.pose;

@@ -57,6 +57,7 @@ struct RbpfStep {
   PredictionUse prediction;
   int best = 0;                      // index of the best particle
   Pose2D pose;                       // best estimate of the robot pose at this scan
+  double tracking_score = 0.0;       // mean map evidence at the endpoints after tracking, in [0, 1]; 0 at the first scan
   // A loop closure corrected the past: every map was re-rendered, and the map around the robot
   // moved by `correction` (new frame from old, near the robot).
   bool loop_corrected = false;
