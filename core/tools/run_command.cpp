@@ -14,6 +14,7 @@
 #include "commands.hpp"
 #include "pslam/eval/trajectory_io.hpp"
 #include "hypotheses_json.hpp"
+#include "pslam/filter/divergence_monitor.hpp"
 #include "pslam/slam/pslam.hpp"
 #include "pslam/io/carmen_read_summary.hpp"
 #include "pslam/io/carmen_reader.hpp"
@@ -31,8 +32,9 @@ constexpr const char* kUsage =
     "  Maps a CARMEN log. --map writes OUT_PREFIX.pgm, .yaml and .png; --trajectory writes one line\n"
     "  'timestamp x y theta' per laser scan of the log; --processed-trajectory only the scans at which\n"
     "  the filter updated. --strict stops at the first corrupt line\n"
-    "  (default: skip and count it). --set tunes any filter option, e.g. --set linear_update=0.5;\n"
-    "  'pslam run --help' lists them.\n"
+    "  (default: skip and count it). --set tunes any filter option, e.g. --set linear_update=0.5,\n"
+    "  or a threshold of the lost-filter warning, e.g. --set divergence.score_lost=0.04; 'pslam run\n"
+    "  --help' lists them. A warning goes to stderr whenever the filter looks degraded or lost.\n"
     "  P-SLAM predicts the structure ahead of the robot (the target is the frontier it heads toward)\n"
     "  and weighs particles with the predictions; --no-predict runs the plain RBPF, --no-recovery\n"
     "  keeps predictions in use even when hit ratios say they are wrong. --hypotheses writes every\n"
@@ -61,11 +63,31 @@ class ProgressBar {
   void Finish() {
     if (enabled_) std::fprintf(stderr, "\n");
   }
+  // Ends the bar's line before other output; the bar is drawn again at the next Show.
+  void Interrupt() {
+    if (!enabled_ || last_percent_ < 0) return;
+    std::fprintf(stderr, "\n");
+    last_percent_ = -1;
+  }
 
  private:
   bool enabled_;
   int last_percent_ = -1;
 };
+
+constexpr const char* kDivergencePrefix = "divergence.";
+
+// Tells the operator when the filter starts to look lost, and when it looks fine again.
+void ReportTracking(const DivergenceMonitor& monitor, double log_start) {
+  const double since_start = monitor.changed_at_time() - log_start;
+  if (monitor.state() == TrackingState::kOk) {
+    std::fprintf(stderr, "note: filter tracking ok again at scan %d, %.1f s into the log\n", monitor.changed_at_scan(),
+                 since_start);
+  } else {
+    std::fprintf(stderr, "warning: filter %s at scan %d, %.1f s into the log: %s\n", TrackingStateName(monitor.state()),
+                 monitor.changed_at_scan(), since_start, monitor.reason().c_str());
+  }
+}
 
 }  // namespace
 
@@ -90,15 +112,21 @@ int RunRunCommand(const std::vector<std::string>& args) {
   const auto map_prefix = cli.Value("--map");
   const bool strict = cli.Flag("--strict");
   const bool quiet = cli.Flag("--quiet");
+  DivergenceOptions divergence;
   for (const std::string& assignment : cli.Values("--set")) {
     const auto eq = assignment.find('=');
-    const std::string error = eq == std::string::npos ? "--set needs NAME=VALUE, got '" + assignment + "'"
-                                                      : SetRbpfOption(options, assignment.substr(0, eq), assignment.substr(eq + 1));
+    const std::string name = assignment.substr(0, eq);
+    std::string error;
+    if (eq == std::string::npos) error = "--set needs NAME=VALUE, got '" + assignment + "'";
+    else if (name.starts_with(kDivergencePrefix))
+      error = SetDivergenceOption(divergence, name.substr(std::string(kDivergencePrefix).size()), assignment.substr(eq + 1));
+    else error = SetRbpfOption(options, name, assignment.substr(eq + 1));
     if (!error.empty()) cli.AddError(error);
   }
   if (cli.Flag("--help")) {
     std::cout << kUsage << "filter options (--set):\n";
     for (const auto& name : RbpfOptionNames()) std::cout << "  " << name << "\n";
+    for (const auto& name : DivergenceOptionNames()) std::cout << "  " << kDivergencePrefix << name << "\n";
     return 0;
   }
   if (const auto problem = ValidatePredictorOptions(pslam_options.predictor)) cli.AddError(*problem);
@@ -112,6 +140,8 @@ int RunRunCommand(const std::vector<std::string>& args) {
     ScanStream scans(reader);
     PSlam slam(pslam_options);
     const Rbpf& filter = slam.filter();
+    DivergenceMonitor monitor(options.particles, divergence);
+    int warnings = 0, lost = 0;
     std::vector<std::string> stamps;
     ProgressBar progress(!quiet && isatty(STDERR_FILENO));
     const auto start = std::chrono::steady_clock::now();
@@ -120,7 +150,13 @@ int RunRunCommand(const std::vector<std::string>& args) {
       if (stamps.empty()) first_time = scan->timestamp;
       last_time = scan->timestamp;
       stamps.push_back(scan->timestamp_text);
-      slam.AddScan(*scan);
+      const PSlamStep step = slam.AddScan(*scan);
+      if (monitor.Add(step.filter, *scan)) {
+        progress.Interrupt();
+        ReportTracking(monitor, first_time);
+        if (monitor.state() != TrackingState::kOk) ++warnings;
+        if (monitor.state() == TrackingState::kLost) ++lost;
+      }
       progress.Show(reader.progress(), static_cast<int>(stamps.size()));
     }
     progress.Finish();
@@ -171,6 +207,7 @@ int RunRunCommand(const std::vector<std::string>& args) {
                   l.closures, l.searches, l.ambiguous, l.outliers, l.optimizations, l.rebuilds, l.search_ms / 1e3,
                   l.optimize_ms / 1e3, l.rebuild_ms / 1e3);
     }
+    std::printf("tracking warnings %d (%d lost), %s at the end\n", warnings, lost, TrackingStateName(monitor.state()));
     if (pslam_options.predict) {
       const PSlamStats p = slam.stats();
       std::printf("predictions       %d targets, %d predicted, %d hypotheses (%d confirmed, %d refuted, %d expired)\n",
