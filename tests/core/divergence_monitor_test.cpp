@@ -170,27 +170,13 @@ struct DriveResult {
   std::string reason_when_lost;
 };
 
-std::vector<testing::Segment> AnotherRoom() {
-  std::vector<testing::Segment> walls;
-  auto box = [&](double x0, double y0, double x1, double y1) {
-    walls.push_back({{x0, y0}, {x1, y0}});
-    walls.push_back({{x1, y0}, {x1, y1}});
-    walls.push_back({{x1, y1}, {x0, y1}});
-    walls.push_back({{x0, y1}, {x0, y0}});
-  };
-  box(-2.3, -1.7, 2.9, 2.2);
-  box(-0.9, -1.0, -0.4, -0.3);
-  walls.push_back({{0.7, 2.2}, {1.9, 0.9}});
-  return walls;
-}
-
 DriveResult Drive(int scans, int switch_at) {
   RbpfOptions options;
   options.threads = 1;
   Rbpf filter(options);
   DivergenceMonitor monitor(options.particles);
   const auto room = testing::RoomWalls();
-  const auto other = AnotherRoom();
+  const auto other = testing::OtherRoomWalls();
   DriveResult result;
   for (int k = 0; k < scans; ++k) {
     const double t = k * kScanPeriod;

@@ -31,6 +31,22 @@ inline std::vector<Segment> RoomWalls() {
   return walls;
 }
 
+// Another room, for scans that a map of RoomWalls() cannot explain (a robot carried off): 9 m x 5 m,
+// with a pillar and a slanted wall where RoomWalls() has none.
+inline std::vector<Segment> OtherRoomWalls() {
+  std::vector<Segment> walls;
+  auto box = [&](double x0, double y0, double x1, double y1) {
+    walls.push_back({{x0, y0}, {x1, y0}});
+    walls.push_back({{x1, y0}, {x1, y1}});
+    walls.push_back({{x1, y1}, {x0, y1}});
+    walls.push_back({{x0, y1}, {x0, y0}});
+  };
+  box(-4.2, -2.7, 4.6, 2.3);
+  box(-0.9, 0.2, -0.2, 0.9);
+  walls.push_back({{1.5, 2.3}, {3.2, 0.4}});
+  return walls;
+}
+
 inline double RayHit(const Eigen::Vector2d& o, const Eigen::Vector2d& d, const std::vector<Segment>& walls) {
   double best = std::numeric_limits<double>::infinity();
   for (const auto& w : walls) {
