@@ -33,7 +33,7 @@ constexpr const char* kUsage =
     "  'timestamp x y theta' per laser scan of the log; --processed-trajectory only the scans at which\n"
     "  the filter updated. --strict stops at the first corrupt line\n"
     "  (default: skip and count it). --set tunes any filter option, e.g. --set linear_update=0.5,\n"
-    "  or a threshold of the lost-filter warning, e.g. --set divergence.score_lost=0.04; 'pslam run\n"
+    "  or a threshold of the lost-filter warning, e.g. --set divergence.score_lost=0.02; 'pslam run\n"
     "  --help' lists them. A warning goes to stderr whenever the filter looks degraded or lost.\n"
     "  P-SLAM predicts the structure ahead of the robot (the target is the frontier it heads toward)\n"
     "  and weighs particles with the predictions; --no-predict runs the plain RBPF, --no-recovery\n"

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
+#include <optional>
 #include <vector>
 
 namespace pslam {
@@ -29,7 +30,13 @@ const char* TrackingStateName(TrackingState state) {
 
 DivergenceMonitor::DivergenceMonitor(int particles, const DivergenceOptions& options)
     : options_(options), check_neff_(particles > 2.0 * options.neff_pinned) {
-  options_.score_window = std::max(1, options_.score_window);
+  options_.collapse_window = std::max(1, options_.collapse_window);
+  options_.weak_window = std::max(1, options_.weak_window);
+}
+
+std::optional<double> DivergenceMonitor::MeanScore(int window) const {
+  if (static_cast<int>(scores_.size()) < window) return std::nullopt;
+  return std::accumulate(scores_.end() - window, scores_.end(), 0.0) / static_cast<double>(window);
 }
 
 bool DivergenceMonitor::Add(const RbpfStep& step, const LaserScan& scan) {
@@ -37,7 +44,7 @@ bool DivergenceMonitor::Add(const RbpfStep& step, const LaserScan& scan) {
   const int index = scans_++;
   if (index > 0) {  // the first scan only starts the map: nothing to match or to move from
     scores_.push_back(step.tracking_score);
-    if (static_cast<int>(scores_.size()) > options_.score_window) scores_.pop_front();
+    if (static_cast<int>(scores_.size()) > std::max(options_.collapse_window, options_.weak_window)) scores_.pop_front();
 
     if (step.updated) {
       const bool pinned = check_neff_ && step.neff < options_.neff_pinned;
@@ -86,13 +93,13 @@ bool DivergenceMonitor::Add(const RbpfStep& step, const LaserScan& scan) {
 
 DivergenceMonitor::Signs DivergenceMonitor::Assess(double time) const {
   std::vector<std::string> seen;
-  bool collapsed = false;
-  if (static_cast<int>(scores_.size()) >= options_.score_window) {
-    const double mean = std::accumulate(scores_.begin(), scores_.end(), 0.0) / static_cast<double>(scores_.size());
-    if (mean < std::max(options_.score_degraded, options_.score_lost)) {
-      collapsed = mean < options_.score_lost;
-      seen.push_back(Format("tracking score %.3f over the last %d scans", mean, options_.score_window));
-    }
+  const std::optional<double> recent = MeanScore(options_.collapse_window);
+  const std::optional<double> longer = MeanScore(options_.weak_window);
+  const bool collapsed = recent && *recent < options_.score_lost;
+  if (collapsed) {
+    seen.push_back(Format("tracking score %.3f over the last %d scans", *recent, options_.collapse_window));
+  } else if (longer && *longer < options_.score_degraded) {
+    seen.push_back(Format("tracking score %.3f over the last %d scans", *longer, options_.weak_window));
   }
   if (pinned_updates_ >= options_.neff_pinned_updates) {
     seen.push_back(Format("N_eff %.2f, below %.2f for %d updates", pinned_neff_, options_.neff_pinned, pinned_updates_));

@@ -6,6 +6,7 @@
 //  - the estimate jumps: it moves far further between two scans than odometry says.
 // One sign makes the state 'degraded'; a collapsed tracking score, or two signs at once, 'lost'.
 #include <deque>
+#include <optional>
 #include <string>
 
 #include "pslam/filter/divergence_options.hpp"
@@ -42,6 +43,7 @@ class DivergenceMonitor {
     std::string reason;
   };
   Signs Assess(double time) const;
+  std::optional<double> MeanScore(int window) const;  // of the last 'window' scans; none while fewer
 
   DivergenceOptions options_;
   bool check_neff_;

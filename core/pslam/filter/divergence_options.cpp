@@ -21,9 +21,10 @@ Setter Field(T DivergenceOptions::*member) {
 
 const std::map<std::string, Setter>& Setters() {
   static const std::map<std::string, Setter> setters = {
-      {"score_window", Field(&DivergenceOptions::score_window)},
-      {"score_degraded", Field(&DivergenceOptions::score_degraded)},
+      {"collapse_window", Field(&DivergenceOptions::collapse_window)},
       {"score_lost", Field(&DivergenceOptions::score_lost)},
+      {"weak_window", Field(&DivergenceOptions::weak_window)},
+      {"score_degraded", Field(&DivergenceOptions::score_degraded)},
       {"neff_pinned", Field(&DivergenceOptions::neff_pinned)},
       {"neff_pinned_updates", Field(&DivergenceOptions::neff_pinned_updates)},
       {"jump_translation", Field(&DivergenceOptions::jump_translation)},

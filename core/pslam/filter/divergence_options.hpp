@@ -9,11 +9,14 @@ namespace pslam {
 
 struct DivergenceOptions {
   // Tracking score: mean map evidence at the scan endpoints after tracking (RbpfStep), averaged over
-  // the last scans. The lowest such mean on the three logs is 0.084 (FR079, a stretch where scan
-  // matching falls back to odometry); scans of another world give 0.015.
-  int score_window = 10;              // scans
+  // the last scans. Scans of another place than the map's score about 0.01, but only until the
+  // next filter update puts them into the map, which can be a few scans later: a collapse is seen
+  // over a short window. On the three logs the lowest 3-scan mean is 0.072 (ACES), the lowest
+  // 10-scan mean 0.084 (FR079, a stretch where scan matching falls back to odometry).
+  int collapse_window = 3;            // scans
+  double score_lost = 0.03;
+  int weak_window = 10;               // scans
   double score_degraded = 0.07;
-  double score_lost = 0.05;
   // N_eff pinned at its minimum: one particle carries all the weight, update after update, so the
   // filter cannot correct itself any more. On the logs N_eff stays below 3 for one update at most.
   double neff_pinned = 1.5;
