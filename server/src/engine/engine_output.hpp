@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "pslam/sensor/laser_scan.hpp"
@@ -21,6 +22,15 @@ struct LiveTile {
   int tx = 0, ty = 0;
   std::uint64_t revision = 0;
   std::shared_ptr<const std::vector<std::uint8_t>> cells;  // EncodeLiveTile
+};
+
+// The filter started or stopped looking lost (pslam/filter/divergence_monitor.hpp).
+struct TrackingChange {
+  std::int64_t scan_index = 0;  // the scan at which it changed
+  std::int64_t seq = 0;         // its input's seq
+  double t = 0.0;               // its input's time
+  std::string state;            // "ok", "degraded" or "lost"
+  std::string reason;           // empty when ok
 };
 
 // One tick of the live view (10 per second on average): what changed since the previous tick.

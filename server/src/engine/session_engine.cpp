@@ -196,6 +196,7 @@ void SessionEngine::Process(const InputRecord& input, std::optional<SteadyTime> 
   }
   for (std::int64_t id : step.hypotheses_removed) live_removed_.push_back(id);
   if (step.target) SendTarget(*step.target);
+  if (step.tracking_changed) ReportTracking(input);
   processed_seq_ = input.seq;
   live_dirty_ = stored_dirty_ = true;
   if (sinks_.progress) sinks_.progress(input.seq);
@@ -222,6 +223,14 @@ void SessionEngine::SendTarget(const ExplorationTarget& target) {
   if (sinks_.target && !rebuilding_) sinks_.target(target);
 }
 
+void SessionEngine::ReportTracking(const InputRecord& input) {
+  // An operator should see this at the next live tick, not only after the stats period.
+  last_stats_sent_ = SteadyTime{};
+  if (!sinks_.tracking || rebuilding_) return;
+  const DivergenceMonitor& monitor = pipeline_->divergence();
+  sinks_.tracking({monitor.changed_at_scan(), input.seq, input.t, TrackingStateName(monitor.state()), monitor.reason()});
+}
+
 void SessionEngine::RecordTiming(double latency_ms, double step_ms) {
   recent_timing_.emplace_back(latency_ms, step_ms);
   if (recent_timing_.size() > kTimingWindow) recent_timing_.pop_front();
@@ -236,6 +245,8 @@ EngineStats SessionEngine::CurrentStats() const {
   s.resamplings = f.resamplings;
   s.neff = f.neff;
   s.particles = pipeline_->started() ? pipeline_->particle_count() : settings_.particles;
+  s.tracking = TrackingStateName(pipeline_->divergence().state());
+  s.tracking_reason = pipeline_->divergence().reason();
   s.updates_using_predictions = f.updates_using_predictions;
   const PSlamStats p = pipeline_->pslam_stats();
   s.targets = p.targets;

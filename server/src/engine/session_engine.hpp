@@ -38,6 +38,7 @@ struct EngineSinks {
   std::function<void(Checkpoint)> checkpoint;
   std::function<void(std::int64_t processed_seq)> progress;
   std::function<void(const ExplorationTarget&)> target;
+  std::function<void(const TrackingChange&)> tracking;  // not while rebuilding: reported when first seen
   std::function<void(const std::string& error)> failed;
   std::function<void()> finished;  // after the final checkpoint of Finish()
 };
@@ -87,6 +88,7 @@ class SessionEngine {
   void ReplaceTrajectory();
   void TakePlan();
   void SendTarget(const ExplorationTarget& target);  // to the viewers and (unless rebuilding) the agent
+  void ReportTracking(const InputRecord& input);      // the divergence monitor's state changed at 'input'
   void PublishLive(bool final_tick = false);
   bool StatsDue(SteadyTime now) const;
   SteadyTime::duration StatsPeriod() const;

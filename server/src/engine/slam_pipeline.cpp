@@ -63,7 +63,7 @@ PSlamOptions ToPSlamOptions(const SessionSettings& settings) {
 }
 
 SlamPipeline::SlamPipeline(const SessionSettings& settings, const LaserGeometry& laser, std::function<void()> plan_ready)
-    : settings_(settings), laser_(laser), slam_(ToPSlamOptions(settings)) {
+    : settings_(settings), laser_(laser), slam_(ToPSlamOptions(settings)), divergence_(settings.particles) {
   if (settings_.plan_targets) planner_ = std::make_unique<ExplorationPlanner>(std::move(plan_ready));
 }
 
@@ -95,6 +95,7 @@ PipelineStep SlamPipeline::Add(const InputRecord& input) {
   const std::size_t known = slam_.hypotheses().size();
   PSlamStep s = slam_.AddScan(*step.scan);
   step.filter = s.filter;
+  step.tracking_changed = divergence_.Add(s.filter, *step.scan);
   // New hypotheses (possibly taken from the predictor during this scan) and changed ones.
   for (std::size_t i = known; i < slam_.hypotheses().size(); ++i) s.changed_hypotheses.push_back(slam_.hypotheses()[i].id);
   for (const int id : s.changed_hypotheses) {

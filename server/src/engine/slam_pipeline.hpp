@@ -16,6 +16,7 @@
 #include "model/hypothesis.hpp"
 #include "model/input.hpp"
 #include "model/session_settings.hpp"
+#include "pslam/filter/divergence_monitor.hpp"
 #include "pslam/slam/pslam.hpp"
 #include "pslam/sensor/laser_scan.hpp"
 
@@ -28,6 +29,7 @@ struct PipelineStep {
   std::vector<HypothesisRecord> hypotheses_changed;  // added or updated by this input
   std::vector<std::int64_t> hypotheses_removed;
   std::optional<ExplorationTarget> target;        // a newly planned target, if any (see TakePlan)
+  bool tracking_changed = false;                  // the divergence monitor's state changed
 };
 
 // The LaserScan for a stored scan input of a session with laser 'laser'. Ranges that are not
@@ -59,6 +61,8 @@ class SlamPipeline {
   std::vector<double> Weights() const { return slam_.filter().Weights(); }
   // The best particle's pose at every scan so far (smoothed: see Rbpf::Trajectory).
   std::vector<Pose2D> Trajectory() const { return slam_.filter().Trajectory(); }
+  // Whether the filter looks lost, from every scan so far.
+  const DivergenceMonitor& divergence() const { return divergence_; }
 
   const std::vector<HypothesisRecord>& hypotheses() const { return hypotheses_; }
   const std::vector<std::array<double, 2>>& frontiers() const { return frontiers_; }
@@ -71,6 +75,7 @@ class SlamPipeline {
   SessionSettings settings_;
   LaserGeometry laser_;
   PSlam slam_;
+  DivergenceMonitor divergence_;
   std::vector<HypothesisRecord> hypotheses_;
   std::map<int, std::size_t> record_index_;       // hypothesis id -> index in hypotheses_
   std::vector<std::array<double, 2>> frontiers_;

@@ -2,6 +2,7 @@
 // A session engine's running statistics, as plain data (live view, REST, checkpoints).
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 namespace pslam::server {
 
@@ -18,6 +19,10 @@ struct EngineStats {
   double step_ms_mean = 0.0;       // filter time per scan, recent mean
   std::size_t queued = 0;          // inputs waiting for the filter
   bool rebuilding = false;         // re-running stored inputs after a restart
+  // Whether the filter looks lost (pslam/filter/divergence_monitor.hpp): "ok", "degraded" or
+  // "lost", and why when not ok.
+  std::string tracking = "ok";
+  std::string tracking_reason;
   // P-SLAM
   std::int64_t targets = 0;             // exploration targets set (each asks for a prediction)
   std::int64_t predictions_made = 0;    // predictions finished, with or without a hypothesis

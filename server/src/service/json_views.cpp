@@ -68,6 +68,8 @@ nlohmann::json EngineStatsToJson(const EngineStats& s) {
           {"step_ms_mean", s.step_ms_mean},
           {"queued", s.queued},
           {"rebuilding", s.rebuilding},
+          {"tracking", s.tracking},
+          {"tracking_reason", s.tracking_reason},
           {"targets", s.targets},
           {"predictions_made", s.predictions_made},
           {"hypotheses", s.hypotheses},

@@ -81,6 +81,13 @@ std::shared_ptr<SessionRuntime> MappingService::Launch(const SessionRow& row, co
     }
     if (agent) agent->SendTarget(target);
   };
+  sinks.tracking = [this, id](const TrackingChange& change) {
+    std::cerr << "session " << id << ": filter " << (change.state == "ok" ? "tracking ok again" : change.state) << " at scan "
+              << change.scan_index << (change.reason.empty() ? "" : ": " + change.reason) << "\n";
+    if (change.state != "lost") return;
+    LogEvent(id, "filter_lost",
+             {{"scan_index", change.scan_index}, {"seq", change.seq}, {"t", change.t}, {"reason", change.reason}});
+  };
   sinks.failed = [this, id, weak](const std::string& error) {
     std::cerr << "session " << id << ": engine failed: " << error << "\n";
     LogEvent(id, "engine_failed", {{"error", error}});
