@@ -6,6 +6,7 @@ import type { SessionView } from '../src/ui/session_view';
 import { snapshotMessage } from './fixtures/live';
 import { replayRequest, type ReplayForm } from '../src/ui/replay_dialog';
 import { parseRoute, routeFor } from '../src/ui/route';
+import { trackingWarning } from '../src/ui/tracking';
 
 describe('routes', () => {
   it('round-trip one and two sessions', () => {
@@ -13,6 +14,21 @@ describe('routes', () => {
     expect(parseRoute(routeFor(['a b', 'c/d']))).toEqual(['a b', 'c/d']);
     expect(parseRoute('#/')).toEqual([]);
     expect(parseRoute('#/compare/only-one')).toEqual([]);
+  });
+});
+
+describe('tracking warning', () => {
+  it('says nothing while the filter looks fine, or when the server does not say', () => {
+    expect(trackingWarning({ tracking: 'ok', tracking_reason: '' })).toBeNull();
+    expect(trackingWarning({ scans: 10 })).toBeNull();
+  });
+
+  it('names the state and the reason when the filter looks degraded or lost', () => {
+    expect(trackingWarning({ tracking: 'lost', tracking_reason: 'tracking score 0.015 over the last 10 scans' })).toEqual({
+      level: 'lost',
+      text: 'Filter likely lost: tracking score 0.015 over the last 10 scans',
+    });
+    expect(trackingWarning({ tracking: 'degraded' })).toEqual({ level: 'degraded', text: 'Filter tracking degraded' });
   });
 });
 

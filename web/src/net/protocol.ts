@@ -47,6 +47,9 @@ export interface EngineStats {
   step_ms_mean?: number;
   queued?: number;
   rebuilding?: boolean;
+  // Whether the filter looks lost: 'ok', 'degraded' or 'lost', and why when not ok.
+  tracking?: string;
+  tracking_reason?: string;
   // P-SLAM
   targets?: number;
   predictions_made?: number;

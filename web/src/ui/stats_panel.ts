@@ -1,10 +1,13 @@
 // Statistics of the focused session: the latest numbers and small time-series plots (uPlot) of
 // scan rate, N_eff, predictions and latency; plus the viewer's own frame and tile-update times.
+// A warning line heads the panel while the filter looks degraded or lost.
 import uPlot from 'uplot';
 import 'uplot/dist/uPlot.min.css';
+import type { EngineStats } from '../net/protocol';
 import type { StatsStore } from '../state/stats_store';
 import { h, formatNumber } from './dom';
 import type { SessionView } from './session_view';
+import { trackingWarning } from './tracking';
 
 interface PlotSpec {
   title: string;
@@ -39,6 +42,7 @@ const kRefreshMs = 500;
 export class StatsPanel {
   readonly element: HTMLElement;
   private view: SessionView | null = null;
+  private readonly warning: HTMLElement;
   private readonly numbers: HTMLElement;
   private readonly plots: { spec: PlotSpec; plot: uPlot | null; host: HTMLElement }[];
   private timer: ReturnType<typeof setInterval>;
@@ -47,9 +51,10 @@ export class StatsPanel {
   private cellCounts = { known: 0, free: 0, occupied: 0 };
 
   constructor() {
+    this.warning = h('div', { class: 'tracking-warning', role: 'alert', hidden: true });
     this.numbers = h('div', { class: 'stat-grid' });
     this.plots = kPlots.map((spec) => ({ spec, plot: null, host: h('div', { class: 'plot', 'data-plot': spec.title }) }));
-    this.element = h('div', { class: 'stats-panel' }, this.numbers, ...this.plots.map((p) => p.host));
+    this.element = h('div', { class: 'stats-panel' }, this.warning, this.numbers, ...this.plots.map((p) => p.host));
     this.timer = setInterval(() => this.refresh(false), kRefreshMs);
   }
 
@@ -89,6 +94,7 @@ export class StatsPanel {
   private renderNumbers(view: SessionView): void {
     const c = view.client;
     const st = c.stats.latest;
+    this.renderWarning(st);
     const counts = c.hypotheses.counts();
     // Cell counts walk the whole map: at most once every 2 s.
     if (performance.now() - this.countsAt > 2000) {
@@ -122,6 +128,14 @@ export class StatsPanel {
     this.numbers.replaceChildren(
       ...items.map(([k, v, title]) => h('div', { class: 'stat', title: title ?? '' }, h('span', { class: 'k' }, k), h('span', { class: 'v', 'data-stat': k }, v))),
     );
+  }
+
+  private renderWarning(st: EngineStats): void {
+    const warning = trackingWarning(st);
+    this.warning.hidden = !warning;
+    this.warning.className = `tracking-warning ${warning?.level ?? ''}`;
+    this.warning.dataset.tracking = st.tracking ?? '';
+    this.warning.textContent = warning?.text ?? '';
   }
 
   private options(spec: PlotSpec, width: number): uPlot.Options {
