@@ -31,8 +31,8 @@ inline std::vector<Segment> RoomWalls() {
   return walls;
 }
 
-// Another room, for scans that a map of RoomWalls() cannot explain (a robot carried off): 9 m x 5 m,
-// with a pillar and a slanted wall where RoomWalls() has none.
+// Another room, for scans that a map of RoomWalls() cannot explain (a robot carried off): smaller,
+// 5.2 m x 3.9 m, with a box and a slanted wall where RoomWalls() has none.
 inline std::vector<Segment> OtherRoomWalls() {
   std::vector<Segment> walls;
   auto box = [&](double x0, double y0, double x1, double y1) {
@@ -41,9 +41,9 @@ inline std::vector<Segment> OtherRoomWalls() {
     walls.push_back({{x1, y1}, {x0, y1}});
     walls.push_back({{x0, y1}, {x0, y0}});
   };
-  box(-4.2, -2.7, 4.6, 2.3);
-  box(-0.9, 0.2, -0.2, 0.9);
-  walls.push_back({{1.5, 2.3}, {3.2, 0.4}});
+  box(-2.3, -1.7, 2.9, 2.2);
+  box(-0.9, -1.0, -0.4, -0.3);
+  walls.push_back({{0.7, 2.2}, {1.9, 0.9}});
   return walls;
 }
 
