@@ -29,11 +29,10 @@ class DivergenceMonitor {
   bool Add(const RbpfStep& step, const LaserScan& scan);
 
   TrackingState state() const { return state_; }
-  // Why the state is not ok: the signs seen, e.g. "tracking score 0.02 over the last 10 scans".
+  // Why the state is not ok: the signs seen, e.g. "tracking score 0.009 over the last 3 scans".
   // Empty when ok.
   const std::string& reason() const { return reason_; }
-  // Scans taken so far, and the scan index and time at which the state last changed.
-  int scans() const { return scans_; }
+  // The scan index (counting every scan taken) and time at which the state last changed.
   int changed_at_scan() const { return changed_at_scan_; }
   double changed_at_time() const { return changed_at_time_; }
 
