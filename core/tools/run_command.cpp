@@ -118,9 +118,12 @@ int RunRunCommand(const std::vector<std::string>& args) {
     const std::string name = assignment.substr(0, eq);
     std::string error;
     if (eq == std::string::npos) error = "--set needs NAME=VALUE, got '" + assignment + "'";
-    else if (name.starts_with(kDivergencePrefix))
+    else if (name.starts_with(kDivergencePrefix)) {
       error = SetDivergenceOption(divergence, name.substr(std::string(kDivergencePrefix).size()), assignment.substr(eq + 1));
-    else error = SetRbpfOption(options, name, assignment.substr(eq + 1));
+      if (!error.empty()) error = "lost-filter warning: " + error;
+    } else {
+      error = SetRbpfOption(options, name, assignment.substr(eq + 1));
+    }
     if (!error.empty()) cli.AddError(error);
   }
   if (cli.Flag("--help")) {
