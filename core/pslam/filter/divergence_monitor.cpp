@@ -55,6 +55,8 @@ bool DivergenceMonitor::Add(const RbpfStep& step, const LaserScan& scan) {
     // Odometry is credited with all of its motion, however fast: real logs carry odometry that
     // turns by 0.9 rad between scans 15 ms apart.
     const double dt = std::max(0.0, time - last_time_);
+    // A loop closure moves the map frame, not the robot: compare in the corrected frame.
+    if (step.loop_corrected) last_pose_ = step.correction * last_pose_;
     const double extra_translation = (step.pose.translation() - last_pose_.translation()).norm() -
                                      (scan.odometry.translation() - last_odometry_.translation()).norm();
     const double extra_rotation = std::abs(NormalizeAngle(step.pose.theta - last_pose_.theta)) -
