@@ -72,12 +72,6 @@ MaxPoolStack::MaxPoolStack(const OccupancyGrid& grid, int depth) : resolution_(g
   // the grid: the padding keeps those reads inside the arrays.
 }
 
-std::size_t MaxPoolStack::bytes() const {
-  std::size_t b = 0;
-  for (const auto& l : levels_) b += l.size();
-  return b;
-}
-
 namespace {
 
 struct Candidate {

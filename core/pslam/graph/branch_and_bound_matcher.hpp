@@ -38,7 +38,6 @@ class MaxPoolStack {
     if (ix < 0 || iy < 0 || ix >= width_ || iy >= height_) return kOutside;
     return levels_[static_cast<std::size_t>(h)][static_cast<std::size_t>(iy) * width_ + ix];
   }
-  std::size_t bytes() const;
   static constexpr std::uint8_t kOutside = 115;  // beyond what the grid saw: neutral, 0.45
 
  private:

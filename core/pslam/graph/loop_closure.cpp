@@ -60,7 +60,7 @@ std::optional<LoopClosureCorrection> LoopCloser::Flush() {
 
 void LoopCloser::AddToSubmap(int n) {
   if (submaps_.empty() || submaps_.back().finished) {
-    submaps_.push_back(Submap{n, n, OccupancyGrid(resolution_), Eigen::Vector2d::Zero(), false});
+    submaps_.push_back(Submap{n, n, OccupancyGrid(resolution_), false});
     last_closure_node_.push_back(-1);
     ++stats_.submaps;
   }
@@ -68,7 +68,6 @@ void LoopCloser::AddToSubmap(int n) {
   const Pose2D local = Between(graph_.pose(s.first_node), graph_.pose(n));
   inserter_.Insert(nodes_[static_cast<std::size_t>(n)].points, local, s.grid);
   s.last_node = n;
-  s.node_sum += local.translation();
   if (s.nodes() >= options_.nodes_per_submap) s.finished = true;
 }
 
@@ -254,8 +253,6 @@ std::optional<LoopClosureCorrection> LoopCloser::Optimize(int n) {
     moved = std::max(moved, std::hypot(d.x, d.y));
     turned = std::max(turned, std::abs(d.theta));
   }
-  const Pose2D last = Between(before.back(), graph_.pose(n));
-  stats_.last_correction_m = std::hypot(last.x, last.y);
   if (moved < options_.rebuild_translation && turned < options_.rebuild_rotation) return std::nullopt;
 
   start = std::chrono::steady_clock::now();

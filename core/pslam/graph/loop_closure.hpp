@@ -30,7 +30,6 @@ struct LoopClosureStats {
   double search_ms = 0.0;        // CPU time of the searches, optimisations and rebuilds
   double optimize_ms = 0.0;
   double rebuild_ms = 0.0;
-  double last_correction_m = 0.0;  // how far the last optimisation moved the newest node
 };
 
 // What an optimisation changed: the corrected pose of every node and the map rendered from them.
@@ -55,7 +54,6 @@ class LoopCloser {
 
   const LoopClosureStats& stats() const { return stats_; }
   const PoseGraph& graph() const { return graph_; }
-  int loop_edges() const { return static_cast<int>(graph_.edges().size()) - std::max(0, graph_.size() - 1); }
 
  private:
   struct Node {

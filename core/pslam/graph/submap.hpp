@@ -1,8 +1,6 @@
 #pragma once
 // A submap: the scans of a run of consecutive nodes rendered into a grid in the frame of its first
 // node. It moves as one rigid piece when the pose graph is optimised.
-#include <Eigen/Core>
-
 #include "pslam/grid/occupancy_grid.hpp"
 
 namespace pslam {
@@ -11,11 +9,9 @@ struct Submap {
   int first_node = 0;
   int last_node = 0;                          // inclusive
   OccupancyGrid grid;                         // in the first node's frame
-  Eigen::Vector2d node_sum = Eigen::Vector2d::Zero();  // sum of node positions, local frame
   bool finished = false;
 
   int nodes() const { return last_node - first_node + 1; }
-  Eigen::Vector2d Center() const { return node_sum / static_cast<double>(nodes()); }
 };
 
 }  // namespace pslam
