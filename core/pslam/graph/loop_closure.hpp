@@ -27,7 +27,7 @@ struct LoopClosureStats {
   int outliers = 0;              // accepted, then removed for disagreeing with the optimum
   int optimizations = 0;
   int rebuilds = 0;              // map re-rendered from corrected poses
-  double search_ms = 0.0;        // CPU time of the searches, optimisations and rebuilds
+  double search_ms = 0.0;        // wall time of the searches, optimisations and rebuilds
   double optimize_ms = 0.0;
   double rebuild_ms = 0.0;
 };
