@@ -35,6 +35,7 @@ constexpr const char* kUsage =
     "  (default: skip and count it). --set tunes any filter option, e.g. --set linear_update=0.5,\n"
     "  or a threshold of the lost-filter warning, e.g. --set divergence.score_lost=0.02; 'pslam run\n"
     "  --help' lists them. A warning goes to stderr whenever the filter looks degraded or lost.\n"
+    "  Loop closure is on (--set loop_closure.enabled=false turns it off).\n"
     "  P-SLAM predicts the structure ahead of the robot (the target is the frontier it heads toward)\n"
     "  and weighs particles with the predictions; --no-predict runs the plain RBPF, --no-recovery\n"
     "  keeps predictions in use even when hit ratios say they are wrong. --hypotheses writes every\n"
@@ -100,6 +101,7 @@ int RunRunCommand(const std::vector<std::string>& args) {
   options.particles = cli.Int("--particles", options.particles);
   options.seed = static_cast<std::uint64_t>(cli.Int("--seed", static_cast<int>(options.seed)));
   options.threads = cli.Int("--threads", options.threads);
+  options.loop_closure.enabled = true;  // --set loop_closure.enabled=false turns it off
   pslam_options.predict = !cli.Flag("--no-predict");
   options.recovery = !cli.Flag("--no-recovery");
   pslam_options.predictor.similarity_threshold =

@@ -200,7 +200,6 @@ TEST_F(MazeRunTest, PredictionsCarryOnFromPredictedWallsWhenPlanningOnTheMergedM
 TEST_F(MazeRunTest, PredictionsDoNotBuildOnWeakHypotheses) {
   ExplorationOptions options = ShortRunOptions(ExploreMode::kSkipPredicted, 400.0);
   options.slam.filter.seed = options.simulator.seed = 6;  // a run that builds on one within 400 s
-  options.slam.filter.loop_closure.enabled = false;      // ... as this seed's run goes without it
   const double bar = options.slam.predict_from_psi;
   ASSERT_GT(bar, options.slam.predictor.similarity_threshold);
   const auto weak = [bar](const Hypothesis& h) { return h.psi < bar && h.status != Hypothesis::Status::kConfirmed; };

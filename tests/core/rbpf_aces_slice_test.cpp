@@ -24,6 +24,7 @@ TEST(RbpfAcesSlice, ClosesLoopsAndMeetsTheRelationErrorBoundInsideTheSlice) {
   RbpfOptions options;
   options.particles = 10;
   options.seed = 1;
+  options.loop_closure.enabled = true;
   Rbpf filter(options);
   std::vector<std::string> stamps;
   while (auto scan = scans.Next()) {
