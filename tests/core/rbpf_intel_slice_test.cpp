@@ -8,7 +8,7 @@
 
 #include "pslam/eval/relative_pose_error.hpp"
 #include "pslam/filter/rbpf.hpp"
-#include "pslam/io/carmen_reader.hpp"
+#include "testing/log_slice.hpp"
 #include "testing/shared_data.hpp"
 
 namespace pslam {
@@ -17,23 +17,12 @@ namespace {
 constexpr int kSliceScans = 2000;  // the first 400 s of the log, with its first loops
 
 std::vector<StampedPose> MapSlice(const std::string& log, int particles, std::uint64_t seed, int threads) {
-  CarmenReader reader(log);
-  ScanStream scans(reader);
   RbpfOptions options;
   options.particles = particles;
   options.seed = seed;
   options.threads = threads;
   Rbpf filter(options);
-  std::vector<std::string> stamps;
-  while (auto scan = scans.Next()) {
-    if (static_cast<int>(stamps.size()) == kSliceScans) break;
-    stamps.push_back(scan->timestamp_text);
-    filter.AddScan(*scan);
-  }
-  const std::vector<Pose2D> poses = filter.Trajectory();
-  std::vector<StampedPose> out;
-  for (std::size_t i = 0; i < poses.size(); ++i) out.push_back({stamps[i], 0.0, poses[i]});
-  return out;
+  return MapLogSlice(log, filter, kSliceScans);
 }
 
 TEST(RbpfIntelSlice, MeetsTheRelationErrorBoundInsideTheSlice) {
