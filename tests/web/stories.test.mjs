@@ -77,4 +77,85 @@ describe('layer stories', { skip }, () => {
       }, story);
     assert.notEqual(await hash('predictions by psi, H3 selected'), await hash('predictions by status'));
   });
+
+  // The colour on screen at the centre of cell (cx, cy), zoomed in to 20 pixels per cell, with only
+  // the predictions drawn (over the plain background).
+  const cellPixel = (story, cx, cy) =>
+    page.evaluate(
+      ([name, x, y]) => {
+        const v = window.stories[name];
+        const res = 0.05;
+        const saved = { cx: v.camera.centerX, cy: v.camera.centerY, scale: v.camera.scale };
+        for (const id of ['map', 'exploration', 'trajectory', 'particles', 'scan', 'robot']) v.setLayerVisible(id, false);
+        v.camera.centerX = (x + 0.5) * res;
+        v.camera.centerY = (y + 0.5) * res;
+        v.camera.scale = 20 / res;
+        v.drawNow();
+        const px = v.canvas.getContext('2d').getImageData(Math.floor(v.canvas.width / 2), Math.floor(v.canvas.height / 2), 1, 1).data;
+        v.camera.centerX = saved.cx;
+        v.camera.centerY = saved.cy;
+        v.camera.scale = saved.scale;
+        v.setLayerVisible('map', true);
+        v.drawNow();
+        return [px[0], px[1], px[2]];
+      },
+      [story, cx, cy],
+    );
+
+  // Cells of a story's hypothesis: its walls and free cells that no other hypothesis predicts, and
+  // its free cells that another one predicts free too.
+  const cellsOf = (story, id) =>
+    page.evaluate(
+      ([name, hid]) => {
+        const store = window.storyClients[name].hypotheses;
+        const key = (x, y) => `${x},${y}`;
+        const others = new Map();
+        for (const e of store.entries.values()) {
+          if (e.h.id === hid) continue;
+          for (let i = 0; i < e.cells.xs.length; i++) others.set(key(e.cells.xs[i], e.cells.ys[i]), e.cells.occupancy[i]);
+        }
+        const c = store.entries.get(hid).cells;
+        const out = { walls: [], free: [], freeShared: [] };
+        for (let i = 0; i < c.xs.length; i++) {
+          const [x, y, wall] = [c.xs[i], c.ys[i], c.occupancy[i] >= 0.5];
+          const shared = others.has(key(x, y));
+          if (wall && !shared) out.walls.push([x, y]);
+          if (!wall && !shared) out.free.push([x, y]);
+          if (!wall && shared && others.get(key(x, y)) < 0.5) out.freeShared.push([x, y]);
+        }
+        return out;
+      },
+      [story, id],
+    );
+
+  const distance = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+  const kBackground = [0x2a, 0x2e, 0x37];
+
+  it('draws predicted walls as solid cells and predicted free space as a light wash that does not stack', async () => {
+    const story = 'predictions by psi, H3 selected';
+    const h1 = await cellsOf(story, 1);
+    assert.ok(h1.walls.length > 0 && h1.free.length > 0 && h1.freeShared.length > 0, `fixture cells: ${JSON.stringify(Object.fromEntries(Object.entries(h1).map(([k, v]) => [k, v.length])))}`);
+    const wall = await cellPixel(story, ...h1.walls[0]);
+    const free = await cellPixel(story, ...h1.free[Math.floor(h1.free.length / 2)]);
+    const shared = await cellPixel(story, ...h1.freeShared[Math.floor(h1.freeShared.length / 2)]);
+    const colour = await page.evaluate(() => window.storyClients['predictions by psi, H3 selected'].hypotheses.entries.get(1).h.psi);
+    console.log(`H1 (psi ${colour}): wall ${wall}, free ${free}, free where H2 overlaps ${shared}, background ${kBackground}`);
+    // A wall is the colour itself; free space stays close to the background, lightly tinted.
+    assert.ok(distance(wall, kBackground) > 100, `wall ${wall} stands out`);
+    assert.ok(distance(free, kBackground) > 8, `free space ${free} is tinted`);
+    assert.ok(distance(free, kBackground) < distance(wall, kBackground) / 3, `free space ${free} is a light wash next to wall ${wall}`);
+    // Two predictions of free space over the same cell draw it once, not twice as dark.
+    assert.ok(distance(shared, kBackground) < distance(wall, kBackground) / 3, `overlapping free space ${shared} stays a light wash`);
+    assert.ok(Math.abs(distance(shared, kBackground) - distance(free, kBackground)) < 12, `overlap ${shared} looks like single free space ${free}`);
+  });
+
+  it('colours walls of predictions with psi 0.75 and 0.9 visibly differently', async () => {
+    const story = 'predictions by psi, H3 selected';
+    const h1 = await cellsOf(story, 1);
+    const h2 = await cellsOf(story, 2);
+    const a = await cellPixel(story, ...h1.walls[0]);
+    const b = await cellPixel(story, ...h2.walls[0]);
+    console.log(`wall at psi 0.75: ${a}; at psi 0.9: ${b}`);
+    assert.ok(distance(a, b) > 80, `psi 0.75 ${a} vs 0.9 ${b}`);
+  });
 });

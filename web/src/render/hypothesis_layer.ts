@@ -1,31 +1,69 @@
-// The predicted structure of unexplored space: each hypothesis's cells, coloured by Psi (viridis)
-// or by status. Each hypothesis gets a small canvas of its bounding box, painted once per change of
-// the hypothesis or of the colouring, and drawn with the map's camera.
+// The predicted structure of unexplored space, drawn as what it is: predicted walls as solid cells
+// in the hypothesis's colour (by Psi in steps, or by status), predicted free space as a light wash
+// of that colour. All hypotheses are painted into one image, cell by cell, so where predictions
+// overlap the wash does not stack up into darker rectangles and a wall is never hidden by a wash.
+// A diamond marks each prediction's target (the frontier it was made for), visible at any zoom.
 import type { HypothesisEntry, HypothesisStore } from '../state/hypothesis_store';
 import type { MapStore } from '../state/map_store';
 import { makeCanvas, type DrawContext, type Layer } from './layer';
-import { css, statusColor, viridis } from './palette';
+import { css, psiColor, statusColor } from './palette';
 
 export type HypothesisColoring = 'psi' | 'status';
 
-interface Painted {
-  revision: number;
-  coloring: HypothesisColoring;
-  canvas: OffscreenCanvas | HTMLCanvasElement;
-}
-
 export function hypothesisColor(e: HypothesisEntry['h'], coloring: HypothesisColoring): [number, number, number] {
-  return coloring === 'psi' ? viridis(e.psi) : statusColor(e.status);
+  return coloring === 'psi' ? psiColor(e.psi) : statusColor(e.status);
 }
 
 // Predictions that later scans refuted, or that were never checked, are drawn faint.
-const faded = (status: string) => status === 'refuted' || status === 'expired';
+export const isFaded = (status: string) => status === 'refuted' || status === 'expired';
+
+// Alpha (0..255) of a predicted cell: walls strong, free space a light wash; faded ones fainter.
+export function cellAlpha(wall: boolean, faded: boolean): number {
+  if (wall) return faded ? 110 : 255;
+  return faded ? 24 : 56;
+}
+
+// The composite image is at most this many pixels; a larger union of predictions is painted at a
+// coarser step (several cells per pixel), so memory stays bounded.
+const kMaxPixels = 4096 * 4096;
+
+export interface CellBox {
+  minX: number;
+  minY: number;
+  maxX: number;
+  maxY: number;
+}
+
+// The union of the predicted cells' bounding boxes (cell indices, inclusive), or null.
+export function predictedCellBox(store: HypothesisStore): CellBox | null {
+  let box: CellBox | null = null;
+  for (const e of store.entries.values()) {
+    const c = e.cells;
+    if (!c || c.xs.length === 0) continue;
+    if (!box) box = { minX: c.minX, minY: c.minY, maxX: c.maxX, maxY: c.maxY };
+    else {
+      box.minX = Math.min(box.minX, c.minX);
+      box.minY = Math.min(box.minY, c.minY);
+      box.maxX = Math.max(box.maxX, c.maxX);
+      box.maxY = Math.max(box.maxY, c.maxY);
+    }
+  }
+  return box;
+}
+
+interface Composite {
+  box: CellBox;
+  step: number; // cells per pixel
+  canvas: OffscreenCanvas | HTMLCanvasElement;
+}
 
 export class HypothesisLayer implements Layer {
   readonly id = 'hypotheses';
   visible = true;
   coloring: HypothesisColoring = 'psi';
-  private painted = new Map<number, Painted>();
+  private composite: Composite | null = null;
+  private paintedVersion = -1;
+  private paintedColoring: HypothesisColoring = 'psi';
   private drawn = -1;
   private drawnColoring: HypothesisColoring = 'psi';
 
@@ -41,50 +79,46 @@ export class HypothesisLayer implements Layer {
   draw({ ctx, camera, dpr }: DrawContext): void {
     this.drawn = this.store.version;
     this.drawnColoring = this.coloring;
-    for (const id of this.painted.keys()) {
-      if (!this.store.entries.has(id)) this.release(id);
-    }
     const res = this.map.resolution;
-    const view = camera.visibleWorld();
     ctx.save();
     ctx.imageSmoothingEnabled = false;
-    for (const e of this.store.entries.values()) {
-      const [r, g, b] = hypothesisColor(e.h, this.coloring);
-      const alpha = faded(e.h.status) ? 0.35 : 1;
-      const c = e.cells;
-      if (c && c.xs.length > 0) {
-        const x0 = c.minX * res, y0 = c.minY * res, x1 = (c.maxX + 1) * res, y1 = (c.maxY + 1) * res;
-        if (x1 < view.minX || x0 > view.maxX || y1 < view.minY || y0 > view.maxY) continue;
-        const painted = this.paint(e);
-        const left = Math.round(camera.worldToScreenX(x0)), right = Math.round(camera.worldToScreenX(x1));
-        const top = Math.round(camera.worldToScreenY(y1)), bottom = Math.round(camera.worldToScreenY(y0));
-        ctx.globalAlpha = alpha;
-        ctx.drawImage(painted.canvas, left, top, Math.max(1, right - left), Math.max(1, bottom - top));
-        ctx.globalAlpha = 1;
-      }
-      // A marker at the predicted region's centre (the target cell), visible at any zoom.
-      const tx = camera.worldToScreenX((e.h.target_cell[0] + 0.5) * res);
-      const ty = camera.worldToScreenY((e.h.target_cell[1] + 0.5) * res);
-      const s = 5 * dpr;
-      ctx.fillStyle = css([r, g, b], alpha);
-      ctx.strokeStyle = 'rgba(0,0,0,0.7)';
-      ctx.lineWidth = dpr;
-      ctx.beginPath();
-      ctx.moveTo(tx, ty - s);
-      ctx.lineTo(tx + s, ty);
-      ctx.lineTo(tx, ty + s);
-      ctx.lineTo(tx - s, ty);
-      ctx.closePath();
-      ctx.fill();
-      ctx.stroke();
+    const comp = this.paint();
+    if (comp) {
+      const { box, step } = comp;
+      const left = Math.round(camera.worldToScreenX(box.minX * res)), right = Math.round(camera.worldToScreenX((box.minX + comp.canvas.width * step) * res));
+      const top = Math.round(camera.worldToScreenY((box.maxY + 1) * res)), bottom = Math.round(camera.worldToScreenY((box.maxY + 1 - comp.canvas.height * step) * res));
+      ctx.drawImage(comp.canvas, left, top, Math.max(1, right - left), Math.max(1, bottom - top));
     }
+    for (const e of this.store.entries.values()) this.drawMarker(ctx, e, camera, dpr, res);
     const sel = this.store.selected !== null ? this.store.entries.get(this.store.selected) : undefined;
     if (sel) this.drawSelection(ctx, sel, camera, dpr, res);
     ctx.restore();
   }
 
   dispose(): void {
-    for (const id of [...this.painted.keys()]) this.release(id);
+    if (this.composite) {
+      this.composite.canvas.width = 0;
+      this.composite.canvas.height = 0;
+    }
+    this.composite = null;
+  }
+
+  // A diamond at the predicted region's target cell, in the hypothesis's colour.
+  private drawMarker(ctx: CanvasRenderingContext2D, e: HypothesisEntry, camera: DrawContext['camera'], dpr: number, res: number): void {
+    const tx = camera.worldToScreenX((e.h.target_cell[0] + 0.5) * res);
+    const ty = camera.worldToScreenY((e.h.target_cell[1] + 0.5) * res);
+    const s = 5 * dpr;
+    ctx.fillStyle = css(hypothesisColor(e.h, this.coloring), isFaded(e.h.status) ? 0.35 : 1);
+    ctx.strokeStyle = 'rgba(0,0,0,0.7)';
+    ctx.lineWidth = dpr;
+    ctx.beginPath();
+    ctx.moveTo(tx, ty - s);
+    ctx.lineTo(tx + s, ty);
+    ctx.lineTo(tx, ty + s);
+    ctx.lineTo(tx - s, ty);
+    ctx.closePath();
+    ctx.fill();
+    ctx.stroke();
   }
 
   private drawSelection(ctx: CanvasRenderingContext2D, e: HypothesisEntry, camera: DrawContext['camera'], dpr: number, res: number): void {
@@ -112,40 +146,49 @@ export class HypothesisLayer implements Layer {
     ctx.fillText(label, left, top - 6 * dpr);
   }
 
-  private paint(e: HypothesisEntry): Painted {
-    const old = this.painted.get(e.h.id);
-    if (old && old.revision === e.revision && old.coloring === this.coloring) return old;
-    const c = e.cells!;
-    const w = c.maxX - c.minX + 1, h = c.maxY - c.minY + 1;
-    let canvas = old?.canvas;
-    if (!canvas || canvas.width !== w || canvas.height !== h) {
-      canvas = makeCanvas(w, h).canvas;
+  // Repaints the composite when a hypothesis or the colouring changed. Order: washes first (the
+  // first wash on a pixel stays), then walls over them, faded before current ones, so a current
+  // prediction's wall is what shows where predictions disagree.
+  private paint(): Composite | null {
+    if (this.paintedVersion === this.store.version && this.paintedColoring === this.coloring) return this.composite;
+    this.paintedVersion = this.store.version;
+    this.paintedColoring = this.coloring;
+    const box = predictedCellBox(this.store);
+    if (!box) {
+      this.dispose();
+      return null;
     }
+    const cellsW = box.maxX - box.minX + 1, cellsH = box.maxY - box.minY + 1;
+    const step = Math.max(1, Math.ceil(Math.sqrt((cellsW * cellsH) / kMaxPixels)));
+    const w = Math.ceil(cellsW / step), h = Math.ceil(cellsH / step);
+    let canvas = this.composite?.canvas;
+    if (!canvas || canvas.width !== w || canvas.height !== h) canvas = makeCanvas(w, h).canvas;
     const ctx = canvas.getContext('2d') as OffscreenCanvasRenderingContext2D | CanvasRenderingContext2D;
     const image = ctx.createImageData(w, h);
     const px = image.data;
-    const [r, g, b] = hypothesisColor(e.h, this.coloring);
-    for (let i = 0; i < c.xs.length; i++) {
-      const at = ((c.maxY - c.ys[i]) * w + (c.xs[i] - c.minX)) * 4;
-      const p = c.occupancy[i];
-      px[at] = r;
-      px[at + 1] = g;
-      px[at + 2] = b;
-      // Predicted walls strong, predicted free space a light wash.
-      px[at + 3] = p >= 0.5 ? 235 : 70;
-    }
+    const entries = [...this.store.entries.values()].filter((e) => e.cells && e.cells.xs.length > 0);
+    entries.sort((a, b) => Number(isFaded(b.h.status)) - Number(isFaded(a.h.status)) || a.h.psi - b.h.psi);
+    const paintCells = (walls: boolean) => {
+      for (const e of entries) {
+        const c = e.cells!;
+        const [r, g, b] = hypothesisColor(e.h, this.coloring);
+        const alpha = cellAlpha(walls, isFaded(e.h.status));
+        for (let i = 0; i < c.xs.length; i++) {
+          if (c.occupancy[i] >= 0.5 !== walls) continue;
+          const at = (Math.floor((box.maxY - c.ys[i]) / step) * w + Math.floor((c.xs[i] - box.minX) / step)) * 4;
+          if (!walls && px[at + 3] !== 0) continue;
+          if (walls && px[at + 3] > alpha) continue;
+          px[at] = r;
+          px[at + 1] = g;
+          px[at + 2] = b;
+          px[at + 3] = alpha;
+        }
+      }
+    };
+    paintCells(false);
+    paintCells(true);
     ctx.putImageData(image, 0, 0);
-    const painted = { revision: e.revision, coloring: this.coloring, canvas };
-    this.painted.set(e.h.id, painted);
-    return painted;
-  }
-
-  private release(id: number): void {
-    const p = this.painted.get(id);
-    if (p) {
-      p.canvas.width = 0;
-      p.canvas.height = 0;
-    }
-    this.painted.delete(id);
+    this.composite = { box, step, canvas };
+    return this.composite;
   }
 }

@@ -77,6 +77,37 @@ export function viridis(t: number): [number, number, number] {
   return [Math.round(a[0] + (b[0] - a[0]) * f), Math.round(a[1] + (b[1] - a[1]) * f), Math.round(a[2] + (b[2] - a[2]) * f)];
 }
 
+// Psi in steps: hypotheses are accepted from Psi 0.7 (the predictor's default), so that range is
+// split into 0.05 steps of clearly different colours, a hue ramp bright enough for the dark
+// unexplored background; everything below 0.7 is one muted step.
+export const kPsiStepFrom = 0.7;
+export const kPsiStep = 0.05;
+const kPsiColors: [number, number, number][] = [
+  [150, 130, 190], // < 0.70
+  [70, 140, 255], // 0.70
+  [0, 200, 220], // 0.75
+  [60, 200, 110], // 0.80
+  [170, 220, 50], // 0.85
+  [250, 220, 40], // 0.90
+  [255, 140, 40], // 0.95
+];
+export const kPsiSteps = kPsiColors.length;
+
+export function psiStep(psi: number): number {
+  if (!Number.isFinite(psi) || psi < kPsiStepFrom) return 0;
+  // The epsilon keeps a value on a boundary (0.75 is 0.7499999... in floating point) in the upper step.
+  return Math.min(kPsiSteps - 1, 1 + Math.floor((psi - kPsiStepFrom) / kPsiStep + 1e-9));
+}
+
+export function psiColor(psi: number): [number, number, number] {
+  return kPsiColors[psiStep(psi)];
+}
+
+// The lower edge of each step, for the legend.
+export function psiStepLabel(step: number): string {
+  return step === 0 ? `< ${kPsiStepFrom}` : (kPsiStepFrom + (step - 1) * kPsiStep).toFixed(2);
+}
+
 export const kStatusColors: Record<string, [number, number, number]> = {
   pending: [90, 160, 255],
   confirmed: [60, 200, 110],

@@ -42,12 +42,13 @@ function mapFrames(): Uint8Array[] {
   return frames;
 }
 
-// Predicted rooms beyond x = 10 m: the known room pattern shifted by 4 m.
+// Predicted rooms beyond x = 10 m: the known room pattern shifted by 4 m. H1 and H2 overlap by
+// half a metre (predictions of neighbouring frontiers do), with Psi 0.75 and 0.9.
 function hypotheses(): { h: Hypothesis; cells: [number, number, number][] }[] {
   const statuses = ['pending', 'confirmed', 'refuted', 'expired'];
   return [0, 1, 2, 3].map((i) => {
     const cells: [number, number, number][] = [];
-    const x0 = 10 + (i % 2) * 2, y0 = i < 2 ? 1 : -4;
+    const x0 = 10 + (i % 2) * 1.5, y0 = i < 2 ? 1 : -4;
     for (let cx = Math.round(x0 / kRes); cx < Math.round((x0 + 2) / kRes); cx++) {
       for (let cy = Math.round(y0 / kRes); cy < Math.round((y0 + 3) / kRes); cy++) {
         const v = occupancy(cx - 80, cy);
@@ -61,7 +62,7 @@ function hypotheses(): { h: Hypothesis; cells: [number, number, number][] }[] {
       reference_cell: [Math.round((x0 - 3) / kRes), Math.round((y0 + 1.5) / kRes)],
       theta: 0,
       translation: [4, 0],
-      psi: 0.45 + 0.15 * i,
+      psi: [0.75, 0.9, 0.6, 0.45][i],
       area: cells.length * kRes * kRes,
       cell_count: cells.length,
       status: statuses[i],
@@ -107,6 +108,7 @@ function story(title: string, layers: string[], coloring: HypothesisColoring, se
   document.getElementById('stories')!.appendChild(host);
 
   const client = new SessionClient('story', undefined, false);
+  clients[title] = client;
   const frames = mapFrames();
   const hyps = hypotheses();
   client.handle(snapshot(frames.length, hyps.map((x) => x.h)));
@@ -131,6 +133,8 @@ function story(title: string, layers: string[], coloring: HypothesisColoring, se
   return v;
 }
 
+const clients: Record<string, SessionClient> = {};
+
 const style = document.createElement('style');
 style.textContent = `
   html, body { overflow: auto; }
@@ -153,4 +157,5 @@ requestAnimationFrame(() => {
   for (const v of Object.values(viewers)) v.drawNow();
   (window as unknown as { storiesReady: boolean }).storiesReady = true;
   (window as unknown as { stories: Record<string, Viewer> }).stories = viewers;
+  (window as unknown as { storyClients: Record<string, SessionClient> }).storyClients = clients;
 });

@@ -1,6 +1,7 @@
 // Layer toggles with their legend, and the colouring of hypotheses (by Psi or by status).
 import type { HypothesisColoring } from '../render/hypothesis_layer';
-import { css, kStatusColors, viridis } from '../render/palette';
+import { cellAlpha } from '../render/hypothesis_layer';
+import { css, kPsiSteps, kStatusColors, psiColor, psiStepLabel, viridis } from '../render/palette';
 import { h } from './dom';
 import { kLayerIds, type LayerId } from './session_view';
 
@@ -69,13 +70,35 @@ export class LayerPanel {
     this.renderHypothesisLegend();
   }
 
+  // What each mark of a prediction means, then the colour scale in use.
   private renderHypothesisLegend(): void {
     const el = this.hypothesisLegend;
-    el.replaceChildren();
+    const sample = psiColor(0.9);
+    const marks = h(
+      'div',
+      { class: 'legend', 'data-legend': 'prediction-marks' },
+      swatch(css(sample, cellAlpha(true, false) / 255), 'border'),
+      'predicted wall ',
+      swatch(css(sample, cellAlpha(false, false) / 255), 'border'),
+      'predicted free ',
+      h('i', { class: 'swatch diamond', style: { background: css(sample) } }),
+      'target (click to select) ',
+      swatch(css(sample, cellAlpha(true, true) / 255), 'border'),
+      'faint: refuted or expired',
+    );
+    let scale: HTMLElement;
     if (this.coloring === 'psi') {
-      el.append(h('span', {}, 'Ψ 0'), gradient(), h('span', {}, '1'));
+      scale = h(
+        'div',
+        { class: 'legend psi-scale', 'data-legend': 'psi', title: 'Ψ: similarity of the registration the prediction was copied from (eq. 5), in steps of 0.05' },
+        h('span', {}, 'Ψ'),
+        ...Array.from({ length: kPsiSteps }, (_, i) =>
+          h('span', { class: 'psi-step' }, h('i', { class: 'swatch', style: { background: css(psiColor(i === 0 ? 0 : 0.7 + (i - 1) * 0.05 + 0.01)) } }), psiStepLabel(i)),
+        ),
+      );
     } else {
-      for (const [status, color] of Object.entries(kStatusColors)) el.append(swatch(css(color)), `${status} `);
+      scale = h('div', { class: 'legend', 'data-legend': 'status' }, ...Object.entries(kStatusColors).flatMap(([status, color]) => [swatch(css(color)), `${status} `]));
     }
+    el.replaceChildren(marks, scale);
   }
 }
