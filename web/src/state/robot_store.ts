@@ -78,6 +78,11 @@ export class RobotStore {
   // Trajectory increments that did not follow on (the server then sends the whole trajectory).
   trajectoryGaps = 0;
 
+  // The input time of the first scan (Unix seconds, or simulated seconds), or null before it.
+  startTime(): number | null {
+    return this.trajectory.length > 0 ? this.trajectory.at(0)[3] : null;
+  }
+
   applySnapshot(s: {
     pose: Pose | null;
     trajectory: { first_index: number; poses: TrajectoryPose[] };

@@ -1,5 +1,6 @@
 // The viewer's shell: session list on the left, one or two map panes in the middle, layers,
-// hypotheses and statistics on the right. Routes: #/session/ID and #/compare/ID1/ID2.
+// predictions and statistics on the right (in compare mode, one block per pane, each following its
+// own session). Routes: #/session/ID and #/compare/ID1/ID2.
 import { api, type SessionInfo } from '../net/api';
 import type { HypothesisColoring } from '../render/hypothesis_layer';
 import { h } from './dom';
@@ -38,8 +39,10 @@ export class App {
   private readonly panes: HTMLElement;
   private readonly sessionList: SessionList;
   private readonly layerPanel: LayerPanel;
-  private readonly hypothesisPanel = new HypothesisPanel();
-  private readonly statsPanel = new StatsPanel();
+  // Per pane: its predictions and statistics panels.
+  private readonly panels = new Map<SessionView, { hypotheses: HypothesisPanel; stats: StatsPanel; titles: HTMLElement[] }>();
+  private readonly predictionsHost = h('div', { class: 'pane-panels' });
+  private readonly statsHost = h('div', { class: 'pane-panels' });
   private readonly replayDialog: ReplayDialog;
   private readonly serverState: HTMLElement;
   private readonly linkButton: HTMLButtonElement;
@@ -126,8 +129,8 @@ export class App {
           'aside',
           { class: 'sidebar right' },
           section('Layers', this.layerPanel.element, 'layers'),
-          section('Predictions', this.hypothesisPanel.element, 'hypotheses'),
-          section('Statistics', this.statsPanel.element, 'stats'),
+          section('Predictions', this.predictionsHost, 'hypotheses'),
+          section('Statistics', this.statsHost, 'stats'),
         ),
         this.replayDialog.element,
       ),
@@ -177,6 +180,7 @@ export class App {
     this.panes.classList.toggle('compare', keep.length === 2);
     this.linkButton.hidden = keep.length !== 2;
     this.focus(Math.min(this.focused, Math.max(0, keep.length - 1)));
+    this.placePanels();
     this.sessionList.setCurrent(ids);
     this.nameViews(this.sessionList.sessions);
     if (keep.length === 2 && this.prefs.linkCameras) keep[1].viewer.setCamera(keep[0].viewer.camera);
@@ -186,8 +190,7 @@ export class App {
     const v = new SessionView(id, this.prefs.layers, this.prefs.coloring);
     v.onFocus = () => this.focus(this.views.indexOf(v));
     v.onChange = (kind) => {
-      if (this.views[this.focused] !== v) return;
-      if (kind === 'hypotheses' || kind === 'snapshot') this.hypothesisPanel.update();
+      if (kind === 'hypotheses' || kind === 'snapshot') this.panels.get(v)?.hypotheses.update();
     };
     v.viewer.onCameraChange = (camera) => {
       if (!this.prefs.linkCameras || this.views.length !== 2) return;
@@ -201,9 +204,33 @@ export class App {
     this.focused = Math.max(0, index);
     this.views.forEach((v, i) => v.setFocused(this.views.length > 1 && i === this.focused));
     const view = this.views[this.focused] ?? null;
-    this.hypothesisPanel.setView(view);
-    this.statsPanel.setView(view);
     document.title = view ? `${view.name} · P-SLAM viewer` : 'P-SLAM viewer';
+  }
+
+  // One predictions and one statistics panel per pane, in pane order; headed by the pane's name
+  // when two panes are open.
+  private placePanels(): void {
+    for (const [view, p] of this.panels) {
+      if (this.views.includes(view)) continue;
+      p.stats.dispose();
+      this.panels.delete(view);
+    }
+    const compare = this.views.length === 2;
+    const blocks = (pick: (p: { hypotheses: HypothesisPanel; stats: StatsPanel; titles: HTMLElement[] }) => HTMLElement) =>
+      this.views.map((view, i) => {
+        let p = this.panels.get(view);
+        if (!p) {
+          p = { hypotheses: new HypothesisPanel(view), stats: new StatsPanel(view), titles: [] };
+          this.panels.set(view, p);
+        }
+        const title = h('div', { class: 'pane-block-title', hidden: !compare }, `${i === 0 ? 'Left' : 'Right'}: ${view.name}`);
+        p.titles.push(title);
+        return h('div', { class: 'pane-block', 'data-pane': i }, title, pick(p));
+      });
+    for (const p of this.panels.values()) p.titles = [];
+    this.predictionsHost.replaceChildren(...blocks((p) => p.hypotheses.element));
+    this.statsHost.replaceChildren(...blocks((p) => p.stats.element));
+    if (this.views.length === 0) this.predictionsHost.replaceChildren(h('div', { class: 'no-live-data' }, 'No session open'));
   }
 
   private nameViews(sessions: SessionInfo[]): void {
@@ -214,6 +241,9 @@ export class App {
         api.session(v.sessionId).then((info) => v.setTitle(info.name || info.id), () => undefined);
       }
     }
+    this.views.forEach((v, i) => {
+      for (const t of this.panels.get(v)?.titles ?? []) t.textContent = `${i === 0 ? 'Left' : 'Right'}: ${v.name}`;
+    });
     const view = this.views[this.focused];
     if (view) document.title = `${view.name} · P-SLAM viewer`;
   }

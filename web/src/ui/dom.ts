@@ -43,6 +43,16 @@ export function formatAge(unixSeconds: number, now = Date.now() / 1000): string 
   return new Date(unixSeconds * 1000).toISOString().slice(0, 10);
 }
 
+// A time of the run as time since its start, m:ss (h:mm:ss past an hour). Input times come from the
+// robot's clock, which a simulator runs faster than real time, so they are never shown as clock time.
+export function formatElapsed(t: number, start: number | null): string {
+  if (!Number.isFinite(t) || t <= 0 || start === null || !Number.isFinite(start)) return '–';
+  const s = Math.max(0, Math.round(t - start));
+  const hh = Math.floor(s / 3600), mm = Math.floor((s % 3600) / 60), ss = s % 60;
+  const pad = (n: number) => String(n).padStart(2, '0');
+  return hh > 0 ? `${hh}:${pad(mm)}:${pad(ss)} into the run` : `${mm}:${pad(ss)} into the run`;
+}
+
 // Saves 'blob' as a file named 'name'.
 export function download(blob: Blob, name: string): void {
   const url = URL.createObjectURL(blob);

@@ -1,24 +1,36 @@
-// The list of structure predictions of the focused session: Psi, area, status, hit ratio; sortable,
+// The list of structure predictions of one pane's session: Psi, area, status, hit ratio; sortable,
 // filterable by status; a click focuses the hypothesis on the map.
 import type { HypothesisSortKey } from '../state/hypothesis_store';
 import { kHypothesisStatuses } from '../state/hypothesis_store';
-import { css, statusColor, viridis } from '../render/palette';
-import { h } from './dom';
+import { css, psiColor, statusColor } from '../render/palette';
+import { formatElapsed, h } from './dom';
 import type { SessionView } from './session_view';
+
+// What the server's hit_ratio is (PSlam::JudgeHypotheses, eq. 23): measured by the filter, not by
+// the judgement that confirms or refutes a prediction, so a confirmed one can have none.
+export const kHitRatioHelp =
+  'hit ratio (eq. 23): of the scan endpoints that fell in predicted, not yet mapped cells, the share a predicted wall ' +
+  'explained, as the filter measured it while this region came into view (a moving average). "–": no hit was measured: ' +
+  'the region was mapped before enough endpoints fell in it, or the filter does not weigh predictions. ' +
+  'Confirmed / refuted is judged separately, from the mapped cells (Ψ observed).';
+
+// The hit ratio as shown: the server reports 0 both for "never measured" and "no hit".
+export function formatHitRatio(hitRatio: number): string {
+  return hitRatio > 0 ? `${Math.round(hitRatio * 100)} %` : '–';
+}
 
 const kColumns: { key: HypothesisSortKey; label: string; title: string }[] = [
   { key: 'id', label: '#', title: 'hypothesis id' },
   { key: 'psi', label: 'Ψ', title: 'similarity of the registration (eq. 5)' },
   { key: 'area', label: 'm²', title: 'predicted area' },
   { key: 'status', label: 'status', title: 'pending until later scans confirm or refute it; expired if never checked' },
-  { key: 'hit_ratio', label: 'hit', title: 'hit ratio (eq. 23): share of scan endpoints in the predicted region that a predicted wall explains' },
+  { key: 'hit_ratio', label: 'hit', title: kHitRatioHelp },
 ];
 
 const kMaxRows = 300;
 
 export class HypothesisPanel {
   readonly element: HTMLElement;
-  private view: SessionView | null = null;
   private sort: HypothesisSortKey = 'id';
   private descending = true;
   private status: string | null = null;
@@ -29,7 +41,7 @@ export class HypothesisPanel {
   private renderedVersion = -1;
   private scheduled = false;
 
-  constructor() {
+  constructor(private readonly view: SessionView) {
     this.summary = h('div', { class: 'hyp-summary' });
     const filter = h(
       'select',
@@ -49,16 +61,12 @@ export class HypothesisPanel {
     this.details = h('div', { class: 'hyp-details' });
     this.element = h(
       'div',
-      { class: 'hypothesis-panel' },
+      { class: 'hypothesis-panel', 'data-session': view.sessionId },
       h('div', { class: 'row' }, this.summary, filter),
       h('div', { class: 'table-scroll' }, h('table', { class: 'hyp-table' }, h('thead', {}, this.head), this.body)),
       this.details,
     );
     this.renderHead();
-  }
-
-  setView(view: SessionView | null): void {
-    this.view = view;
     this.render(true);
   }
 
@@ -111,14 +119,15 @@ export class HypothesisPanel {
       ['Ψ (registration)', hy.psi.toFixed(3)],
       // The server reports 0 until the prediction has been judged against observations.
       ['Ψ observed', hy.psi_observed === null || hy.status === 'pending' ? '–' : hy.psi_observed.toFixed(3)],
-      ['hit ratio', `${(hy.hit_ratio * 100).toFixed(0)} %`],
+      ['hit ratio', formatHitRatio(hy.hit_ratio)],
       ['status', hy.status],
       ['area', `${hy.area.toFixed(1)} m² (${hy.cell_count} cells)`],
       ['target', `(${((hy.target_cell[0] + 0.5) * res).toFixed(2)}, ${((hy.target_cell[1] + 0.5) * res).toFixed(2)}) m`],
       ['reference', `(${((hy.reference_cell[0] + 0.5) * res).toFixed(2)}, ${((hy.reference_cell[1] + 0.5) * res).toFixed(2)}) m`],
       ['rotation', `${((hy.theta * 180) / Math.PI).toFixed(1)}°`],
       ['translation', `(${hy.translation[0].toFixed(2)}, ${hy.translation[1].toFixed(2)}) m`],
-      ['predicted', hy.time ? new Date(hy.time * 1000).toLocaleTimeString() : '–'],
+      // Input times may be simulated (running faster than real time): shown as time into the run.
+      ['predicted', formatElapsed(hy.time, view.client.robot.startTime())],
     ];
     this.details.replaceChildren(
       h('div', { class: 'details-title' }, `H${hy.id}`),
@@ -128,11 +137,6 @@ export class HypothesisPanel {
 
   private render(force: boolean): void {
     const view = this.view;
-    if (!view) {
-      this.summary.textContent = 'No session open';
-      this.body.replaceChildren();
-      return;
-    }
     const store = view.client.hypotheses;
     if (!force && store.version === this.renderedVersion) return;
     this.renderedVersion = store.version;
@@ -147,7 +151,7 @@ export class HypothesisPanel {
     const rows = store.list(this.sort, this.descending, this.status).slice(0, kMaxRows);
     this.body.replaceChildren(
       ...rows.map((hy) => {
-        const [r, g, b] = viridis(hy.psi);
+        const [r, g, b] = psiColor(hy.psi);
         const loading = store.entries.get(hy.id)?.cellsState === 'loading';
         return h(
           'tr',
@@ -163,7 +167,7 @@ export class HypothesisPanel {
           h('td', {}, h('i', { class: 'swatch', style: { background: `rgb(${r},${g},${b})` } }), hy.psi.toFixed(2)),
           h('td', {}, hy.area.toFixed(1)),
           h('td', {}, h('span', { class: 'status-chip', style: { background: css(statusColor(hy.status), 0.25), color: css(statusColor(hy.status)) } }, hy.status)),
-          h('td', {}, `${Math.round(hy.hit_ratio * 100)} %`),
+          h('td', { title: kHitRatioHelp }, formatHitRatio(hy.hit_ratio)),
         );
       }),
     );

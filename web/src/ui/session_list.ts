@@ -2,6 +2,7 @@
 // open one, add one to a side-by-side comparison, or replay it.
 import { api, ApiError, type SessionInfo, type SessionStatistics } from '../net/api';
 import { formatAge, formatNumber, h } from './dom';
+import { evaluationRows, evaluationSummary } from './evaluation';
 
 const kRefreshMs = 3000;
 
@@ -78,11 +79,7 @@ export class SessionList {
     this.list.replaceChildren(
       ...rows.map((s) => {
         const live = s.running;
-        const metrics = Object.entries(s.metrics ?? {})
-          .filter(([, v]) => typeof v === 'number')
-          .slice(0, 3)
-          .map(([k, v]) => `${k} ${formatNumber(v as number, 3)}`)
-          .join(' · ');
+        const metrics = evaluationSummary(s.metrics);
         const predict = s.settings?.predict === false ? 'RBPF' : 'P-SLAM';
         return h(
           'li',
@@ -103,7 +100,7 @@ export class SessionList {
             { class: 'session-meta' },
             `${s.source}${s.replay_of ? ' of ' + shortId(s.replay_of) : ''} · ${predict} · ${formatNumber(s.settings?.particles)} particles · ${formatNumber(s.scans)} scans · ${formatAge(s.created_at)}`,
           ),
-          metrics ? h('div', { class: 'session-meta metrics' }, metrics) : null,
+          metrics ? h('div', { class: 'session-meta metrics', 'data-metrics': '' }, metrics) : null,
           h(
             'div',
             { class: 'session-actions' },
@@ -129,28 +126,20 @@ export class SessionList {
       return;
     }
     if (id !== this.detailsFor) return;
+    // Scans and filter updates are in the Statistics panel (live); here what only the server knows.
     const p = stats.predictions ?? {};
-    const counts = Object.entries(p)
-      .filter(([k, v]) => k !== 'mean_hit_ratio' && typeof v === 'number')
-      .map(([k, v]) => `${v} ${k}`)
+    const counts = (['pending', 'confirmed', 'refuted', 'expired'] as const)
+      .filter((k) => typeof p[k] === 'number' && p[k] > 0)
+      .map((k) => `${p[k]} ${k}`)
       .join(', ');
-    const f = stats.filter ?? {};
+    const rows: [string, string, string][] = [
+      ['inputs received / stored', `${formatNumber(stats.ingest?.received_seq)} / ${formatNumber(stats.ingest?.acked_seq)}`, 'messages from the robot (scans and odometry): received / stored and acknowledged'],
+      ['predictions', counts || 'none', 'kept structure predictions by status'],
+      ...evaluationRows(stats.metrics).map((r): [string, string, string] => [r.label, r.value, r.title]),
+    ];
     this.details.replaceChildren(
-      h('div', { class: 'details-title' }, 'Session statistics'),
-      h(
-        'dl',
-        {},
-        ...(
-          [
-            ['scans', formatNumber(f.scans as number)],
-            ['filter updates', formatNumber(f.updates as number)],
-            ['received / acked', `${formatNumber(stats.ingest?.received_seq)} / ${formatNumber(stats.ingest?.acked_seq)}`],
-            ['hypotheses', counts || '–'],
-            ['mean hit ratio', formatNumber(p.mean_hit_ratio, 2)],
-            ...Object.entries(stats.metrics ?? {}).map(([k, v]) => [k, typeof v === 'number' ? formatNumber(v, 4) : JSON.stringify(v)]),
-          ] as [string, string][]
-        ).flatMap(([k, v]) => [h('dt', {}, k), h('dd', {}, v)]),
-      ),
+      h('div', { class: 'details-title' }, 'Session'),
+      h('dl', {}, ...rows.flatMap(([k, v, title]) => [h('dt', { title }, k), h('dd', { title, 'data-detail': k }, v)])),
     );
   }
 }

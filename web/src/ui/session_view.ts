@@ -2,7 +2,7 @@
 // toolbar (status, connection, zoom, fit, follow, pause).
 import { SessionClient } from '../net/session_client';
 import { ExplorationLayer } from '../render/exploration_layer';
-import { HypothesisLayer, type HypothesisColoring } from '../render/hypothesis_layer';
+import { HypothesisLayer, predictedCellBox, type HypothesisColoring } from '../render/hypothesis_layer';
 import { MapLayer } from '../render/map_layer';
 import { buildMapPalette } from '../render/palette';
 import { ParticleLayer } from '../render/particle_layer';
@@ -10,6 +10,7 @@ import { RobotLayer, TrajectoryLayer } from '../render/robot_layer';
 import { ScanLayer } from '../render/scan_layer';
 import { Viewer } from '../render/viewer';
 import { h } from './dom';
+import { fitBox } from './fit_box';
 import { iconElement, icons } from './icons';
 
 const kPalette = buildMapPalette();
@@ -85,12 +86,8 @@ export class SessionView {
     v.addLayer(new ScanLayer(this.client.robot));
     v.addLayer(new RobotLayer(this.client.robot));
     for (const id of kLayerIds) v.setLayerVisible(id, visibility[id] !== false);
-    v.fitBox = () => {
-      const known = this.client.map.knownWorldBounds();
-      const p = this.client.robot.pose;
-      if (known) return known;
-      return p ? { minX: p.x - 5, minY: p.y - 5, maxX: p.x + 5, maxY: p.y + 5 } : null;
-    };
+    v.fitBox = () =>
+      fitBox(this.client.map.knownWorldBounds(), predictedCellBox(this.client.hypotheses), this.client.map.resolution, this.client.robot.pose);
     v.describeCell = (x, y) => {
       const c = this.client.map.cellAt(x, y);
       if (c === null) return '';
@@ -102,7 +99,7 @@ export class SessionView {
     v.onClick = (x, y) => this.pickHypothesis(x, y);
     this.unsubscribe = this.client.subscribe((e) => {
       if (e.kind === 'state' || e.kind === 'status' || e.kind === 'snapshot' || e.kind === 'error') this.updateHeader();
-      if (e.kind === 'tile' || e.kind === 'snapshot') this.maybeFit();
+      if (e.kind === 'tile' || e.kind === 'snapshot' || e.kind === 'hypotheses') this.maybeFit();
       v.requestRender();
       this.onChange?.(e.kind);
     });
@@ -162,11 +159,14 @@ export class SessionView {
     this.viewer.zoomBy(factor);
   }
 
-  // Fits when the map's tile bounds changed (cheap to check per tile) while auto-fit is on.
+  // Fits when the map's tile bounds or the predicted regions' bounds changed (cheap to check per
+  // tile) while auto-fit is on.
   private maybeFit(): void {
     if (!this.autoFit || this.client.map.loadingSnapshot) return;
     const b = this.client.map.bounds();
-    const key = b ? `${b.minTx},${b.minTy},${b.maxTx},${b.maxTy}` : this.client.robot.pose ? 'pose' : '';
+    const p = predictedCellBox(this.client.hypotheses);
+    const predicted = p ? `|${p.minX},${p.minY},${p.maxX},${p.maxY}` : '';
+    const key = b ? `${b.minTx},${b.minTy},${b.maxTx},${b.maxTy}${predicted}` : this.client.robot.pose ? `pose${predicted}` : '';
     if (!key || key === this.fittedBounds) return;
     this.fittedBounds = key;
     this.viewer.fit();

@@ -1,11 +1,15 @@
-// Statistics of the focused session: the latest numbers and small time-series plots (uPlot) of
-// scan rate, N_eff, predictions and latency; plus the viewer's own frame and tile-update times.
-// A warning line heads the panel while the filter looks degraded or lost.
+// Statistics of one pane's session: the latest numbers, the evaluation metrics (RPE, KL) when the
+// server has computed them, and small time-series plots (uPlot) of scan rate, N_eff, predictions
+// and latency; plus the viewer's own frame and tile-update times. A warning line heads the panel
+// while the filter looks degraded or lost. A stored session shows no rates or latency (they would
+// be the last ones of its run) and no plots (they are drawn from live updates only).
 import uPlot from 'uplot';
 import 'uplot/dist/uPlot.min.css';
+import { api } from '../net/api';
 import type { EngineStats } from '../net/protocol';
 import type { StatsStore } from '../state/stats_store';
 import { h, formatNumber } from './dom';
+import { evaluationRows } from './evaluation';
 import type { SessionView } from './session_view';
 import { trackingWarning } from './tracking';
 
@@ -22,8 +26,8 @@ const kPlots: PlotSpec[] = [
     title: 'Predictions',
     unit: '',
     series: [
-      { key: 'predictions', label: 'made', color: '#8b93a1', dash: [4, 3] },
-      { key: 'hypotheses', label: 'hypotheses', color: '#ffb020' },
+      { key: 'predictions', label: 'predictor runs', color: '#8b93a1', dash: [4, 3] },
+      { key: 'hypotheses', label: 'predictions', color: '#ffb020' },
     ],
   },
   {
@@ -38,46 +42,76 @@ const kPlots: PlotSpec[] = [
 ];
 
 const kRefreshMs = 500;
+// The evaluation metrics come from REST; a replay's appear when it ends.
+const kMetricsRefreshMs = 5000;
+
+// Numbers that describe a running session only.
+const kLiveOnly = new Set(['scan rate', 'latency', 'queued']);
 
 export class StatsPanel {
   readonly element: HTMLElement;
-  private view: SessionView | null = null;
   private readonly warning: HTMLElement;
   private readonly numbers: HTMLElement;
+  private readonly evaluation: HTMLElement;
+  private readonly noLiveData: HTMLElement;
   private readonly plots: { spec: PlotSpec; plot: uPlot | null; host: HTMLElement }[];
   private timer: ReturnType<typeof setInterval>;
+  private metricsTimer: ReturnType<typeof setInterval>;
   private renderedVersion = -1;
   private countsAt = 0;
   private cellCounts = { known: 0, free: 0, occupied: 0 };
+  private metrics: Record<string, unknown> = {};
 
-  constructor() {
+  constructor(private readonly view: SessionView) {
     this.warning = h('div', { class: 'tracking-warning', role: 'alert', hidden: true });
     this.numbers = h('div', { class: 'stat-grid' });
+    this.evaluation = h('div', { class: 'stat-grid evaluation', 'data-section': 'evaluation', hidden: true });
+    this.noLiveData = h('div', { class: 'no-live-data', hidden: true }, 'No live data: the plots show what arrives while the session runs and this page is open.');
     this.plots = kPlots.map((spec) => ({ spec, plot: null, host: h('div', { class: 'plot', 'data-plot': spec.title }) }));
-    this.element = h('div', { class: 'stats-panel' }, this.warning, this.numbers, ...this.plots.map((p) => p.host));
+    this.element = h('div', { class: 'stats-panel', 'data-session': view.sessionId }, this.warning, this.evaluation, this.numbers, this.noLiveData, ...this.plots.map((p) => p.host));
     this.timer = setInterval(() => this.refresh(false), kRefreshMs);
-  }
-
-  setView(view: SessionView | null): void {
-    this.view = view;
-    this.renderedVersion = -1;
-    this.countsAt = 0;
+    this.metricsTimer = setInterval(() => void this.fetchMetrics(), kMetricsRefreshMs);
+    void this.fetchMetrics();
     this.refresh(true);
   }
 
   dispose(): void {
     clearInterval(this.timer);
+    clearInterval(this.metricsTimer);
     for (const p of this.plots) p.plot?.destroy();
+  }
+
+  private async fetchMetrics(): Promise<void> {
+    try {
+      const stats = await api.stats(this.view.sessionId);
+      this.metrics = stats.metrics ?? {};
+      this.renderEvaluation();
+    } catch {
+      // The server may be away for a moment; the next refresh tries again.
+    }
+  }
+
+  private renderEvaluation(): void {
+    const rows = evaluationRows(this.metrics);
+    this.evaluation.hidden = rows.length === 0;
+    this.evaluation.replaceChildren(
+      ...rows.map((r) => h('div', { class: 'stat wide', title: r.title }, h('span', { class: 'k' }, r.label), h('span', { class: 'v', 'data-stat': r.label }, r.value))),
+    );
   }
 
   private refresh(force: boolean): void {
     const view = this.view;
-    if (!view || (view.paused && !force)) return;
+    if (view.paused && !force) return;
     const c = view.client;
     const s = c.stats;
     this.renderNumbers(view);
     if (!force && s.version === this.renderedVersion) return;
     this.renderedVersion = s.version;
+    // Plots need at least two live samples; a stored session has none.
+    const hasSeries = s.length >= 2;
+    this.noLiveData.hidden = hasSeries;
+    for (const p of this.plots) p.host.hidden = !hasSeries;
+    if (!hasSeries) return;
     const width = Math.max(160, this.element.clientWidth - 8);
     for (const p of this.plots) {
       const data: uPlot.AlignedData = [s.time, ...p.spec.series.map((x) => s.series[x.key])];
@@ -106,7 +140,7 @@ export class StatsPanel {
     const tiles = c.tileTimes;
     const tileMean = tiles.length ? tiles.reduce((a, b) => a + b, 0) / tiles.length : NaN;
     const items: [string, string, string?][] = [
-      ['scans', formatNumber(st.scans)],
+      ['scans', formatNumber(st.scans), 'laser scans the filter has taken in'],
       ['filter updates', formatNumber(st.updates)],
       ['resamplings', formatNumber(st.resamplings)],
       ['particles', formatNumber(st.particles)],
@@ -115,8 +149,8 @@ export class StatsPanel {
       ['latency', `${formatNumber(st.latency_ms_mean, 1)} / ${formatNumber(st.latency_ms_max, 0)} ms`, 'input received to processed, mean / max'],
       ['filter step', `${formatNumber(st.step_ms_mean, 1)} ms`],
       ['queued', formatNumber(st.queued)],
-      ['predictions', `${formatNumber(st.predictions_made)} made, ${formatNumber(st.targets)} targets`, 'structure predictions finished / exploration targets set'],
-      ['hypotheses', `${counts.total} (${counts.confirmed ?? 0} confirmed)`],
+      ['predictor runs', `${formatNumber(st.predictions_made)} for ${formatNumber(st.targets)} targets`, 'structure predictions finished (kept or not) / exploration targets set'],
+      ['predictions', `${counts.total} (${counts.confirmed ?? 0} confirmed)`, 'predictions kept (the Predictions panel lists them)'],
       ['prediction time', `${formatNumber(st.prediction_ms_mean, 0)} / ${formatNumber(st.prediction_ms_max, 0)} ms`, 'mean / max'],
       ['updates w/ predictions', formatNumber(st.updates_using_predictions), 'filter updates whose weights used hypotheses (S2)'],
       ['mapped area', `${formatNumber(area, 1)} m²`],
@@ -125,8 +159,9 @@ export class StatsPanel {
       ['tile update', `${formatNumber(tileMean, 3)} ms`, 'decode + store, mean of recent tiles (upload is in the frame time)'],
     ];
     if (st.rebuilding) items.unshift(['state', 'rebuilding after restart']);
+    const live = c.status === 'active';
     this.numbers.replaceChildren(
-      ...items.map(([k, v, title]) => h('div', { class: 'stat', title: title ?? '' }, h('span', { class: 'k' }, k), h('span', { class: 'v', 'data-stat': k }, v))),
+      ...items.filter(([k]) => live || !kLiveOnly.has(k)).map(([k, v, title]) => h('div', { class: 'stat', title: title ?? '' }, h('span', { class: 'k' }, k), h('span', { class: 'v', 'data-stat': k }, v))),
     );
   }
 
