@@ -102,12 +102,14 @@ describe('layer stories', { skip }, () => {
       [story, cx, cy],
     );
 
-  // Cells of a story's hypothesis: its walls and free cells that no other hypothesis predicts, and
-  // its free cells that another one predicts free too.
+  // Cells of a story's hypothesis the map has not mapped: its walls and free cells that no other
+  // hypothesis predicts, and its free cells that another one predicts free too; and the ones the
+  // map has mapped since.
   const cellsOf = (story, id) =>
     page.evaluate(
       ([name, hid]) => {
-        const store = window.storyClients[name].hypotheses;
+        const { hypotheses: store, map } = window.storyClients[name];
+        const unmapped = (x, y) => (map.cellAt((x + 0.5) * 0.05, (y + 0.5) * 0.05) ?? 255) === 255;
         const key = (x, y) => `${x},${y}`;
         const others = new Map();
         for (const e of store.entries.values()) {
@@ -115,9 +117,13 @@ describe('layer stories', { skip }, () => {
           for (let i = 0; i < e.cells.xs.length; i++) others.set(key(e.cells.xs[i], e.cells.ys[i]), e.cells.occupancy[i]);
         }
         const c = store.entries.get(hid).cells;
-        const out = { walls: [], free: [], freeShared: [] };
+        const out = { walls: [], free: [], freeShared: [], mapped: [] };
         for (let i = 0; i < c.xs.length; i++) {
           const [x, y, wall] = [c.xs[i], c.ys[i], c.occupancy[i] >= 0.5];
+          if (!unmapped(x, y)) {
+            out.mapped.push([x, y]);
+            continue;
+          }
           const shared = others.has(key(x, y));
           if (wall && !shared) out.walls.push([x, y]);
           if (!wall && !shared) out.free.push([x, y]);
@@ -147,6 +153,9 @@ describe('layer stories', { skip }, () => {
     // Two predictions of free space over the same cell draw it once, not twice as dark.
     assert.ok(distance(shared, kBackground) < distance(wall, kBackground) / 3, `overlapping free space ${shared} stays a light wash`);
     assert.ok(Math.abs(distance(shared, kBackground) - distance(free, kBackground)) < 12, `overlap ${shared} looks like single free space ${free}`);
+    // Where the map has mapped a predicted cell, the map shows it: the prediction is not painted.
+    assert.ok(h1.mapped.length > 0, 'the fixture has predicted cells the map knows');
+    assert.deepEqual(await cellPixel(story, ...h1.mapped[0]), kBackground);
   });
 
   it('colours walls of predictions with psi 0.75 and 0.9 visibly differently', async () => {

@@ -2,7 +2,9 @@
 // in the hypothesis's colour (by Psi in steps, or by status), predicted free space as a light wash
 // of that colour. All hypotheses are painted into one image, cell by cell, so where predictions
 // overlap the wash does not stack up into darker rectangles and a wall is never hidden by a wash.
-// A diamond marks each prediction's target (the frontier it was made for), visible at any zoom.
+// Only cells the map has not mapped yet are painted: once seen, the map shows what is there (the
+// hypothesis's status says whether it was right). A diamond marks each prediction's target (the
+// frontier it was made for), visible at any zoom.
 import type { HypothesisEntry, HypothesisStore } from '../state/hypothesis_store';
 import type { MapStore } from '../state/map_store';
 import { makeCanvas, type DrawContext, type Layer } from './layer';
@@ -22,6 +24,9 @@ export function cellAlpha(wall: boolean, faded: boolean): number {
   if (wall) return faded ? 110 : 255;
   return faded ? 24 : 56;
 }
+
+// The map changes with every tile; the composite follows it at most this often.
+const kMapRepaintMs = 1000;
 
 // The composite image is at most this many pixels; a larger union of predictions is painted at a
 // coarser step (several cells per pixel), so memory stays bounded.
@@ -64,6 +69,8 @@ export class HypothesisLayer implements Layer {
   private composite: Composite | null = null;
   private paintedVersion = -1;
   private paintedColoring: HypothesisColoring = 'psi';
+  private paintedMap = -1;
+  private paintedAt = -Infinity;
   private drawn = -1;
   private drawnColoring: HypothesisColoring = 'psi';
 
@@ -73,7 +80,11 @@ export class HypothesisLayer implements Layer {
   ) {}
 
   needsDraw(): boolean {
-    return this.drawn !== this.store.version || this.drawnColoring !== this.coloring;
+    return this.drawn !== this.store.version || this.drawnColoring !== this.coloring || this.mapRepaintDue();
+  }
+
+  private mapRepaintDue(): boolean {
+    return this.composite !== null && this.paintedMap !== this.map.version && performance.now() - this.paintedAt >= kMapRepaintMs;
   }
 
   draw({ ctx, camera, dpr }: DrawContext): void {
@@ -150,9 +161,12 @@ export class HypothesisLayer implements Layer {
   // first wash on a pixel stays), then walls over them, faded before current ones, so a current
   // prediction's wall is what shows where predictions disagree.
   private paint(): Composite | null {
-    if (this.paintedVersion === this.store.version && this.paintedColoring === this.coloring) return this.composite;
+    if (this.paintedVersion === this.store.version && this.paintedColoring === this.coloring && !this.mapRepaintDue()) return this.composite;
     this.paintedVersion = this.store.version;
     this.paintedColoring = this.coloring;
+    this.paintedMap = this.map.version;
+    this.paintedAt = performance.now();
+    const mapped = this.map.knownCellTest();
     const box = predictedCellBox(this.store);
     if (!box) {
       this.dispose();
@@ -174,7 +188,7 @@ export class HypothesisLayer implements Layer {
         const [r, g, b] = hypothesisColor(e.h, this.coloring);
         const alpha = cellAlpha(walls, isFaded(e.h.status));
         for (let i = 0; i < c.xs.length; i++) {
-          if (c.occupancy[i] >= 0.5 !== walls) continue;
+          if (c.occupancy[i] >= 0.5 !== walls || mapped(c.xs[i], c.ys[i])) continue;
           const at = (Math.floor((box.maxY - c.ys[i]) / step) * w + Math.floor((c.xs[i] - box.minX) / step)) * 4;
           if (!walls && px[at + 3] !== 0) continue;
           if (walls && px[at + 3] > alpha) continue;

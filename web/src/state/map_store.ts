@@ -174,6 +174,23 @@ export class MapStore {
     return t.cells[(cy - ty * s) * s + (cx - tx * s)];
   }
 
+  // A test 'is cell (cx, cy) mapped?' (any value but unknown) for many cells in a row: it keeps
+  // the last tile looked up, since neighbouring cells mostly share a tile.
+  knownCellTest(): (cx: number, cy: number) => boolean {
+    const s = this.tileSize;
+    let lastKey = '';
+    let last: StoredTile | undefined;
+    return (cx, cy) => {
+      const tx = Math.floor(cx / s), ty = Math.floor(cy / s);
+      const key = tileKey(tx, ty);
+      if (key !== lastKey) {
+        lastKey = key;
+        last = this.tiles.get(key);
+      }
+      return last !== undefined && last.cells[(cy - ty * s) * s + (cx - tx * s)] !== 255;
+    };
+  }
+
   // Counts of known, free (< 25 %) and occupied (> 65 %) cells.
   cellCounts(): { known: number; free: number; occupied: number } {
     let known = 0, free = 0, occupied = 0;
