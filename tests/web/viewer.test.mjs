@@ -108,7 +108,7 @@ describe('web viewer against pslam-server and pslam-agent', { skip }, () => {
       return s && s.connection === 'open' && s.tiles > 0 && s;
     });
     await page.locator('.pane[data-connection="open"]').waitFor();
-    assert.match(await page.locator('.session-row.current .session-meta').first().innerText(), /scans/);
+    assert.match(await page.locator('.session-row.current .session-meta').first().innerText(), /particles/);
     await shot('01-session-open');
   });
 

@@ -98,7 +98,9 @@ export class SessionList {
           h(
             'div',
             { class: 'session-meta' },
-            `${s.source}${s.replay_of ? ' of ' + shortId(s.replay_of) : ''} · ${predict} · ${formatNumber(s.settings?.particles)} particles · ${formatNumber(s.scans)} scans · ${formatAge(s.created_at)}`,
+            // A running session's scan count here would lag the live one in its pane (it is the
+            // last checkpoint's): only a stored session's, which is final, is shown.
+            `${s.source}${s.replay_of ? ' of ' + shortId(s.replay_of) : ''} · ${predict} · ${formatNumber(s.settings?.particles)} particles · ${live ? '' : `${formatNumber(s.scans)} scans · `}${formatAge(s.created_at)}`,
           ),
           metrics ? h('div', { class: 'session-meta metrics', 'data-metrics': '' }, metrics) : null,
           h(
