@@ -12,6 +12,17 @@ describe('Trajectory', () => {
     expect(t.distance()).toBeCloseTo(2);
   });
 
+  it('does not grow the path while the robot stands still and its pose jitters', () => {
+    const t = new Trajectory();
+    const still = Array.from({ length: 1000 }, (_, i) => [0.02 * Math.sin(i * 1.7), 0.02 * Math.cos(i * 2.3), 0, i] as [number, number, number, number]);
+    t.apply(0, still);
+    expect(t.distance()).toBeLessThan(0.1);
+    // Slow driving in 1 cm steps still counts in full.
+    const t2 = new Trajectory();
+    t2.apply(0, Array.from({ length: 101 }, (_, i) => [i * 0.01, 0, 0, i] as [number, number, number, number]));
+    expect(t2.distance()).toBeCloseTo(1, 5);
+  });
+
   it('replaces the tail when an increment starts inside it (engine restarted)', () => {
     const t = new Trajectory();
     t.apply(0, [[0, 0, 0, 0], [1, 0, 0, 0], [2, 0, 0, 0]]);

@@ -48,11 +48,19 @@ export class Trajectory {
     return [this.data[o], this.data[o + 1], this.data[o + 2], this.data[o + 3]];
   }
 
-  // Length of the path in metres.
-  distance(): number {
+  // Length of the path in metres. Moves shorter than 'minStep' from the last counted point are
+  // not counted on their own: the pose estimate of a robot standing still jitters by a few
+  // centimetres per scan, which summed over minutes would grow the path by metres.
+  distance(minStep = 0.05): number {
+    if (this.n === 0) return 0;
     let d = 0;
+    let ax = this.data[0], ay = this.data[1];
     for (let i = 1; i < this.n; i++) {
-      d += Math.hypot(this.data[i * 4] - this.data[i * 4 - 4], this.data[i * 4 + 1] - this.data[i * 4 - 3]);
+      const step = Math.hypot(this.data[i * 4] - ax, this.data[i * 4 + 1] - ay);
+      if (step < minStep && i < this.n - 1) continue;
+      d += step;
+      ax = this.data[i * 4];
+      ay = this.data[i * 4 + 1];
     }
     return d;
   }

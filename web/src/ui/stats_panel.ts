@@ -154,7 +154,7 @@ export class StatsPanel {
       ['prediction time', `${formatNumber(st.prediction_ms_mean, 0)} / ${formatNumber(st.prediction_ms_max, 0)} ms`, 'mean / max'],
       ['updates w/ predictions', formatNumber(st.updates_using_predictions), 'filter updates whose weights used hypotheses (S2)'],
       ['mapped area', `${formatNumber(area, 1)} m²`],
-      ['path', `${formatNumber(c.robot.trajectory.distance(), 1)} m`],
+      ['path', `${formatNumber(c.robot.trajectory.distance(), 1)} m`, 'length of the estimated trajectory, without the jitter of a robot standing still (moves under 5 cm)'],
       ['render', `${formatNumber(frame.drawMeanMs, 2)} ms / frame`, `time to issue a frame's drawing (the browser rasterises after): p95 ${frame.drawP95Ms.toFixed(2)} ms, max ${frame.drawMaxMs.toFixed(2)} ms`],
       ['tile update', `${formatNumber(tileMean, 3)} ms`, 'decode + store, mean of recent tiles (upload is in the frame time)'],
     ];
