@@ -64,6 +64,7 @@ export class HypothesisPanel {
       { class: 'hypothesis-panel', 'data-session': view.sessionId },
       h('div', { class: 'row' }, this.summary, filter),
       h('div', { class: 'table-scroll' }, h('table', { class: 'hyp-table' }, h('thead', {}, this.head), this.body)),
+      h('div', { class: 'hint', title: kHitRatioHelp }, 'hit: share of scan endpoints in predicted space that a predicted wall explained, as the filter measured it; – none measured.'),
       this.details,
     );
     this.renderHead();
