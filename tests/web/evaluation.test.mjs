@@ -84,7 +84,19 @@ describe('viewer read-outs of stored sessions', { skip }, () => {
     short = await replay('intel-300.clf', 'intel 300 scans');
     long = await replay('intel-600.clf', 'intel 600 scans');
     for (const id of [short, long]) {
-      await waitFor(`replay ${id} to end with its RPE`, async () => (await getJson(`${server.url}/api/sessions/${id}/stats`)).metrics?.rpe, { timeoutMs: 120000, intervalMs: 500 });
+      let seen = '';
+      const ended = await waitFor(
+        `replay ${id} to end with its RPE`,
+        async () => {
+          const stats = await getJson(`${server.url}/api/sessions/${id}/stats`);
+          seen = `${stats.status}, ${stats.filter?.scans} scans`;
+          return stats.status === 'failed' ? { failed: true } : stats.metrics?.rpe;
+        },
+        { timeoutMs: 240000, intervalMs: 500 },
+      ).catch((e) => {
+        throw new Error(`${e.message}; the session: ${seen}`);
+      });
+      if (ended.failed) throw new Error(`replay ${id} failed:\n${server.log.slice(-5).join('\n')}`);
     }
     browser = await launchBrowser();
     page = await browser.context.newPage();
@@ -154,7 +166,10 @@ describe('viewer read-outs of stored sessions', { skip }, () => {
       const panel = page.locator(`.stats-panel[data-session="${id}"]`);
       await waitFor(`the statistics of ${id}`, async () => (await panel.locator('[data-stat="scans"]').innerText()) === String(scans), { timeoutMs: 20000 });
       await panel.locator('[data-stat="RPE translation"]').waitFor();
-      await page.locator(`.hypothesis-panel[data-session="${id}"]`).waitFor();
+      const kept = (await getJson(`${server.url}/api/sessions/${id}/hypotheses?limit=1`)).total;
+      const summary = page.locator(`.hypothesis-panel[data-session="${id}"] .hyp-summary b`);
+      await waitFor(`the predictions of ${id}`, async () => (await summary.innerText()) === String(kept), { timeoutMs: 20000 });
+      console.log(`pane of ${id}: ${scans} scans, ${kept} predictions`);
     }
     const titles = await page.locator('[data-panel="stats"] .pane-block-title').allInnerTexts();
     assert.deepEqual(titles, ['Left: intel 300 scans', 'Right: intel 600 scans']);
