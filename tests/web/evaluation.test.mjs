@@ -177,6 +177,21 @@ describe('viewer read-outs of stored sessions', { skip }, () => {
     await page.locator('.pane').nth(1).locator('.map-canvas').click({ position: { x: 30, y: 30 } });
     assert.equal(await page.locator(`.stats-panel[data-session="${short}"] [data-stat="scans"]`).innerText(), '300');
     await shot('eval-compare');
+    // Both panes keep every header button inside the pane, and a readable title.
+    const header = await page.evaluate(() =>
+      [...document.querySelectorAll('.pane')].map((pane) => {
+        const r = pane.getBoundingClientRect();
+        const buttons = [...pane.querySelectorAll('.pane-header button')];
+        return {
+          outside: buttons.filter((b) => b.getBoundingClientRect().right > r.right + 1).map((b) => b.title),
+          title: pane.querySelector('.pane-title').getBoundingClientRect().width,
+        };
+      }),
+    );
+    for (const p of header) {
+      assert.deepEqual(p.outside, [], 'header buttons inside the pane');
+      assert.ok(p.title >= 30, `pane title ${p.title} px wide`);
+    }
     assert.deepEqual(await clippedElements(page), []);
     assert.deepEqual(pageErrors, []);
   });

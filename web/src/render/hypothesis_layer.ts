@@ -2,9 +2,11 @@
 // in the hypothesis's colour (by Psi in steps, or by status), predicted free space as a light wash
 // of that colour. All hypotheses are painted into one image, cell by cell, so where predictions
 // overlap the wash does not stack up into darker rectangles and a wall is never hidden by a wash.
-// Only cells the map has not mapped yet are painted: once seen, the map shows what is there (the
-// hypothesis's status says whether it was right). A diamond marks each prediction's target (the
-// frontier it was made for), visible at any zoom.
+// The cells are drawn under the map (part 'cells'): the map's known cells are opaque and its unknown
+// ones transparent, so a prediction shows only where the map has not mapped yet; once seen, the
+// map shows what is there (the status says whether the prediction was right). The marks (part
+// 'marks', over the map): a diamond at each prediction's target (the frontier it was made for),
+// visible at any zoom, and the selection.
 import type { HypothesisEntry, HypothesisStore } from '../state/hypothesis_store';
 import type { MapStore } from '../state/map_store';
 import { makeCanvas, type DrawContext, type Layer } from './layer';
@@ -24,9 +26,6 @@ export function cellAlpha(wall: boolean, faded: boolean): number {
   if (wall) return faded ? 110 : 255;
   return faded ? 24 : 56;
 }
-
-// The map changes with every tile; the composite follows it at most this often.
-const kMapRepaintMs = 1000;
 
 // The composite image is at most this many pixels; a larger union of predictions is painted at a
 // coarser step (several cells per pixel), so memory stays bounded.
@@ -63,28 +62,24 @@ interface Composite {
 }
 
 export class HypothesisLayer implements Layer {
+  // Both parts answer to the one layer toggle.
   readonly id = 'hypotheses';
   visible = true;
   coloring: HypothesisColoring = 'psi';
   private composite: Composite | null = null;
   private paintedVersion = -1;
   private paintedColoring: HypothesisColoring = 'psi';
-  private paintedMap = -1;
-  private paintedAt = -Infinity;
   private drawn = -1;
   private drawnColoring: HypothesisColoring = 'psi';
 
   constructor(
     private readonly store: HypothesisStore,
     private readonly map: MapStore,
+    readonly part: 'cells' | 'marks',
   ) {}
 
   needsDraw(): boolean {
-    return this.drawn !== this.store.version || this.drawnColoring !== this.coloring || this.mapRepaintDue();
-  }
-
-  private mapRepaintDue(): boolean {
-    return this.composite !== null && this.paintedMap !== this.map.version && performance.now() - this.paintedAt >= kMapRepaintMs;
+    return this.drawn !== this.store.version || this.drawnColoring !== this.coloring;
   }
 
   draw({ ctx, camera, dpr }: DrawContext): void {
@@ -93,16 +88,18 @@ export class HypothesisLayer implements Layer {
     const res = this.map.resolution;
     ctx.save();
     ctx.imageSmoothingEnabled = false;
-    const comp = this.paint();
+    const comp = this.part === 'cells' ? this.paint() : null;
     if (comp) {
       const { box, step } = comp;
       const left = Math.round(camera.worldToScreenX(box.minX * res)), right = Math.round(camera.worldToScreenX((box.minX + comp.canvas.width * step) * res));
       const top = Math.round(camera.worldToScreenY((box.maxY + 1) * res)), bottom = Math.round(camera.worldToScreenY((box.maxY + 1 - comp.canvas.height * step) * res));
       ctx.drawImage(comp.canvas, left, top, Math.max(1, right - left), Math.max(1, bottom - top));
     }
-    for (const e of this.store.entries.values()) this.drawMarker(ctx, e, camera, dpr, res);
-    const sel = this.store.selected !== null ? this.store.entries.get(this.store.selected) : undefined;
-    if (sel) this.drawSelection(ctx, sel, camera, dpr, res);
+    if (this.part === 'marks') {
+      for (const e of this.store.entries.values()) this.drawMarker(ctx, e, camera, dpr, res);
+      const sel = this.store.selected !== null ? this.store.entries.get(this.store.selected) : undefined;
+      if (sel) this.drawSelection(ctx, sel, camera, dpr, res);
+    }
     ctx.restore();
   }
 
@@ -161,12 +158,9 @@ export class HypothesisLayer implements Layer {
   // first wash on a pixel stays), then walls over them, faded before current ones, so a current
   // prediction's wall is what shows where predictions disagree.
   private paint(): Composite | null {
-    if (this.paintedVersion === this.store.version && this.paintedColoring === this.coloring && !this.mapRepaintDue()) return this.composite;
+    if (this.paintedVersion === this.store.version && this.paintedColoring === this.coloring) return this.composite;
     this.paintedVersion = this.store.version;
     this.paintedColoring = this.coloring;
-    this.paintedMap = this.map.version;
-    this.paintedAt = performance.now();
-    const mapped = this.map.knownCellTest();
     const box = predictedCellBox(this.store);
     if (!box) {
       this.dispose();
@@ -188,7 +182,7 @@ export class HypothesisLayer implements Layer {
         const [r, g, b] = hypothesisColor(e.h, this.coloring);
         const alpha = cellAlpha(walls, isFaded(e.h.status));
         for (let i = 0; i < c.xs.length; i++) {
-          if (c.occupancy[i] >= 0.5 !== walls || mapped(c.xs[i], c.ys[i])) continue;
+          if (c.occupancy[i] >= 0.5 !== walls) continue;
           const at = (Math.floor((box.maxY - c.ys[i]) / step) * w + Math.floor((c.xs[i] - box.minX) / step)) * 4;
           if (!walls && px[at + 3] !== 0) continue;
           if (walls && px[at + 3] > alpha) continue;

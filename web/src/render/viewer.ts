@@ -87,9 +87,11 @@ export class Viewer {
     return this.layers.find((l) => l.id === id) as T | undefined;
   }
 
+  // Shows or hides every layer with this id (a layer may be drawn in parts, e.g. under and over
+  // the map).
   setLayerVisible(id: string, visible: boolean): void {
-    const l = this.layers.find((x) => x.id === id);
-    if (l && l.visible !== visible) {
+    for (const l of this.layers) {
+      if (l.id !== id || l.visible === visible) continue;
       l.visible = visible;
       this.invalidate();
     }

@@ -118,10 +118,11 @@ function story(title: string, layers: string[], coloring: HypothesisColoring, se
   client.handle({ type: 'scan', pose, angle_min: -Math.PI / 2, angle_increment: Math.PI / 180, max_range: 8, ranges: Array.from({ length: 181 }, (_, i) => (i % 13 === 0 ? null : 0.9 + 0.3 * Math.abs(Math.sin(i / 20)))) });
 
   const v = new Viewer(view);
+  const [cells, marks] = (['cells', 'marks'] as const).map((part) => new HypothesisLayer(client.hypotheses, client.map, part));
+  cells.coloring = marks.coloring = coloring;
+  v.addLayer(cells);
   v.addLayer(new MapLayer(client.map, buildMapPalette()));
-  const hl = new HypothesisLayer(client.hypotheses, client.map);
-  hl.coloring = coloring;
-  v.addLayer(hl);
+  v.addLayer(marks);
   v.addLayer(new ExplorationLayer(client.robot));
   v.addLayer(new TrajectoryLayer(client.robot));
   v.addLayer(new ParticleLayer(client.robot));

@@ -22,7 +22,7 @@ export class SessionView {
   readonly client: SessionClient;
   readonly viewer: Viewer;
   readonly element: HTMLElement;
-  readonly hypothesisLayer: HypothesisLayer;
+  readonly hypothesisLayers: HypothesisLayer[];
   name: string;
   private readonly statusBadge: HTMLElement;
   private readonly connDot: HTMLElement;
@@ -76,10 +76,15 @@ export class SessionView {
     mapHost.appendChild(this.notice);
     this.viewer = new Viewer(mapHost);
     const v = this.viewer;
+    // Predicted cells under the map (they show where it is still unknown), their marks over it.
+    this.hypothesisLayers = [
+      new HypothesisLayer(this.client.hypotheses, this.client.map, 'cells'),
+      new HypothesisLayer(this.client.hypotheses, this.client.map, 'marks'),
+    ];
+    for (const l of this.hypothesisLayers) l.coloring = coloring;
+    v.addLayer(this.hypothesisLayers[0]);
     v.addLayer(new MapLayer(this.client.map, kPalette));
-    this.hypothesisLayer = new HypothesisLayer(this.client.hypotheses, this.client.map);
-    this.hypothesisLayer.coloring = coloring;
-    v.addLayer(this.hypothesisLayer);
+    v.addLayer(this.hypothesisLayers[1]);
     v.addLayer(new ExplorationLayer(this.client.robot));
     v.addLayer(new TrajectoryLayer(this.client.robot));
     v.addLayer(new ParticleLayer(this.client.robot));
@@ -125,7 +130,7 @@ export class SessionView {
   }
 
   setColoring(coloring: HypothesisColoring): void {
-    this.hypothesisLayer.coloring = coloring;
+    for (const l of this.hypothesisLayers) l.coloring = coloring;
     this.viewer.invalidate();
   }
 
