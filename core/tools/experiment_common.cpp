@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "pslam/experiment/map_similarity.hpp"
+#include "pslam/filter/rbpf_options.hpp"
 #include "pslam/sim/world_file.hpp"
 
 namespace pslam {
@@ -77,7 +78,8 @@ const char* const kExplorationFlagsUsage =
     "  --similarity-threshold PSI (0.6, the paper's simulations)  --prediction-range M (10)\n"
     "  --ambiguity-margin M (0.1; 0: the paper's best match, no ambiguity rule)\n"
     "  --control-point-range M (3: the corner nearest the target within M is the control point)\n"
-    "  --degenerate-ratio R (0.15; 0: no degeneracy guard in scan matching)\n";
+    "  --degenerate-ratio R (0.15; 0: no degeneracy guard in scan matching)\n"
+    "  --set NAME=VALUE (any filter option of 'pslam run --help', e.g. --set loop_closure.enabled=true)\n";
 
 ExplorationOptions ExplorationFromCli(CliArgs& cli, double default_time_limit_s) {
   ExplorationOptions options = DefaultExplorationOptions();
@@ -94,6 +96,13 @@ ExplorationOptions ExplorationFromCli(CliArgs& cli, double default_time_limit_s)
   const double degenerate_ratio = cli.Double("--degenerate-ratio", options.slam.filter.tracking_match.degenerate_ratio);
   if (!(degenerate_ratio >= 0.0 && degenerate_ratio < 1.0)) cli.AddError("--degenerate-ratio must lie in [0, 1)");
   SetDegenerateRatio(options.slam.filter, degenerate_ratio);
+  for (const std::string& assignment : cli.Values("--set")) {
+    const auto eq = assignment.find('=');
+    const std::string error = eq == std::string::npos
+                                  ? "--set needs NAME=VALUE, got '" + assignment + "'"
+                                  : SetRbpfOption(options.slam.filter, assignment.substr(0, eq), assignment.substr(eq + 1));
+    if (!error.empty()) cli.AddError(error);
+  }
   options.time_limit_s = cli.Double("--time-limit", default_time_limit_s);
   if (options.slam.filter.particles < 1) cli.AddError("--particles must be at least 1");
   if (!(options.time_limit_s > 0.0)) cli.AddError("--time-limit must be positive");

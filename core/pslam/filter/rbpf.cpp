@@ -185,6 +185,7 @@ PredictionUse Rbpf::UpdateParticles(const Pose2D& motion, const std::vector<Eige
     use.mean_hit_ratio += l.hit_ratio();
   }
   if (with_points > 0) {
+    use.measured = true;
     use.mean_hit_ratio /= with_points;
     use.used = !options_.recovery || use.best_hit_ratio >= options_.hit_ratio_threshold;
     ++stats_.updates_with_hypothesis_points;

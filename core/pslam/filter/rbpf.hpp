@@ -45,6 +45,7 @@ struct PredictedCell {
 // How the hypotheses took part in one filter update.
 struct PredictionUse {
   bool used = false;                 // S2 entered the weights
+  bool measured = false;             // some particle had enough endpoints in hypotheses for a hit ratio
   int hypothesis_points = 0;         // |z^u| of the best particle
   double best_hit_ratio = 0.0;       // the highest hit ratio (eq. 23) over the particles
   double mean_hit_ratio = 0.0;       // over particles that had endpoints in hypotheses

@@ -185,8 +185,9 @@ void PSlam::JudgeHypotheses(const RbpfStep& step, double time, std::vector<int>&
       continue;
     }
     last_observed_[i] = time;
-    // Hit ratio (eq. 23) as the filter measured it while this hypothesis was in view.
-    if (step.prediction.hypothesis_points > 0) {
+    // Hit ratio (eq. 23) as the filter measured it while this hypothesis was in view; an update
+    // with too few endpoints in hypotheses measured nothing, and its zero must not count.
+    if (step.prediction.measured) {
       h.hit_ratio = std::isnan(h.hit_ratio) ? step.prediction.best_hit_ratio
                                             : 0.7 * h.hit_ratio + 0.3 * step.prediction.best_hit_ratio;
     }
