@@ -1,6 +1,7 @@
 #include "pslam/common/parallel_for.hpp"
 
 #include <algorithm>
+#include <utility>
 
 namespace pslam {
 
@@ -18,12 +19,16 @@ ThreadPool::~ThreadPool() {
   for (auto& t : workers_) t.join();
 }
 
-namespace {
-void RunSlice(const std::function<void(int)>& body, int n, int slice, int slices) {
+void ThreadPool::RunSlice(const std::function<void(int)>& body, int n, int slice) {
+  const int slices = size();
   const int begin = n * slice / slices, end = n * (slice + 1) / slices;
-  for (int i = begin; i < end; ++i) body(i);
+  try {
+    for (int i = begin; i < end; ++i) body(i);
+  } catch (...) {
+    std::lock_guard lock(mutex_);
+    if (!error_) error_ = std::current_exception();
+  }
 }
-}  // namespace
 
 void ThreadPool::ParallelFor(int n, const std::function<void(int)>& body) {
   if (workers_.empty() || n <= 1) {
@@ -35,13 +40,20 @@ void ThreadPool::ParallelFor(int n, const std::function<void(int)>& body) {
     body_ = &body;
     n_ = n;
     pending_ = static_cast<int>(workers_.size());
+    error_ = nullptr;
     ++generation_;
   }
   wake_.notify_all();
-  RunSlice(body, n, 0, size());
-  std::unique_lock lock(mutex_);
-  done_.wait(lock, [this] { return pending_ == 0; });
-  body_ = nullptr;
+  RunSlice(body, n, 0);
+  std::exception_ptr error;
+  {
+    // Every worker finishes its slice before the body (and what it refers to) may go away.
+    std::unique_lock lock(mutex_);
+    done_.wait(lock, [this] { return pending_ == 0; });
+    body_ = nullptr;
+    error = std::exchange(error_, nullptr);
+  }
+  if (error) std::rethrow_exception(error);
 }
 
 void ThreadPool::WorkerLoop(int worker) {
@@ -57,7 +69,7 @@ void ThreadPool::WorkerLoop(int worker) {
       body = body_;
       n = n_;
     }
-    RunSlice(*body, n, worker, size());
+    RunSlice(*body, n, worker);
     {
       std::lock_guard lock(mutex_);
       if (--pending_ == 0) done_.notify_one();

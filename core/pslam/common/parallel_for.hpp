@@ -3,6 +3,7 @@
 // contiguous index ranges; results must not depend on which thread ran an index, which keeps runs
 // deterministic for a seed.
 #include <condition_variable>
+#include <exception>
 #include <functional>
 #include <mutex>
 #include <thread>
@@ -18,11 +19,13 @@ class ThreadPool {
   ThreadPool& operator=(const ThreadPool&) = delete;
 
   int size() const { return static_cast<int>(workers_.size()) + 1; }
-  // Runs body(i) for i in [0, n); the calling thread takes part. Returns when all are done.
+  // Runs body(i) for i in [0, n); the calling thread takes part. Returns when all are done. If
+  // body throws (on any thread), every slice still ends before the first exception is rethrown here.
   void ParallelFor(int n, const std::function<void(int)>& body);
 
  private:
   void WorkerLoop(int worker);
+  void RunSlice(const std::function<void(int)>& body, int n, int slice);
 
   std::vector<std::thread> workers_;
   std::mutex mutex_;
@@ -33,6 +36,7 @@ class ThreadPool {
   int generation_ = 0;
   int pending_ = 0;
   bool stop_ = false;
+  std::exception_ptr error_;  // the first exception of the current loop
 };
 
 }  // namespace pslam
