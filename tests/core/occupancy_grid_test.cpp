@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 #include "pslam/grid/ray_caster.hpp"
@@ -74,6 +75,50 @@ TEST(ScanInserter, MarksWallsOccupiedAndTheRoomFree) {
   EXPECT_LT(grid.Probability(free.x(), free.y()), 0.45f);
   const Eigen::Vector2i behind = grid.WorldToCell({-3.0, 0.0});  // behind the 180 degree sensor
   EXPECT_FALSE(grid.IsKnown(behind.x(), behind.y()));
+}
+
+// A scan taken 1e15 m away (finite, absurd odometry) must neither overflow the cell index nor
+// grow the tile table towards it: the writes are refused and counted, the map stays as it was.
+TEST(OccupancyGrid, RefusesCellsBeyondItsExtentWithoutAllocating) {
+  OccupancyGrid grid(0.05);
+  const ScanInserter inserter;
+  const LaserScan scan = testing::RenderScan(Pose2D(0, 0, 0), testing::RoomWalls(), Pose2D());
+  inserter.Insert(ToScanPoints(scan, {}), Pose2D(0, 0, 0), grid);
+  const std::size_t tiles = grid.AllocatedTiles();
+  const int wide = grid.tiles_wide(), high = grid.tiles_high();
+  EXPECT_EQ(grid.refused_writes(), 0u);
+
+  const Eigen::Vector2i far = grid.WorldToCell({1e15, -1e15});
+  EXPECT_EQ(far, Eigen::Vector2i(OccupancyGrid::kMaxCellIndex, -OccupancyGrid::kMaxCellIndex));
+  EXPECT_EQ(grid.WorldToCell({std::nan(""), 0.0}).x(), -OccupancyGrid::kMaxCellIndex);
+  inserter.Insert(ToScanPoints(scan, {}), Pose2D(1e15, 1e15, 0), grid);
+  inserter.Insert(ToScanPoints(scan, {}), Pose2D(2e5, 0, 0), grid);  // beyond the default 1e5 m
+  EXPECT_GT(grid.refused_writes(), 0u);
+  EXPECT_FALSE(grid.IsKnown(far.x(), far.y()));
+  EXPECT_EQ(grid.AllocatedTiles(), tiles);
+  EXPECT_EQ(grid.tiles_wide(), wide);
+  EXPECT_EQ(grid.tiles_high(), high);
+  OccupancyGrid copy = grid;  // copies keep the bound and the count
+  EXPECT_EQ(copy.refused_writes(), grid.refused_writes());
+}
+
+// Within the extent, a jump of 20 km (millimetres read as metres) would make the dense tile table
+// span both places: 6250 x 6250 slots at 5 cm. The table bound refuses that growth instead.
+TEST(OccupancyGrid, RefusesGrowthPastTheTileTableBound) {
+  OccupancyGrid grid(0.05, GridLimits{.max_extent_meters = 1e5, .max_tile_slots = 4096});
+  grid.AddLogOdds(0, 0, 500, -2000, 3500);
+  grid.AddLogOdds(20 * 64 - 1, 20 * 64 - 1, 500, -2000, 3500);  // 20 x 20 tiles: fits, with or without margin
+  EXPECT_EQ(grid.refused_writes(), 0u);
+  const Eigen::Vector2i jump = grid.WorldToCell({20000.0, 20000.0});
+  grid.AddLogOdds(jump.x(), jump.y(), 500, -2000, 3500);
+  EXPECT_EQ(grid.refused_writes(), 1u);
+  EXPECT_FALSE(grid.IsKnown(jump.x(), jump.y()));
+  EXPECT_LE(static_cast<std::size_t>(grid.tiles_wide()) * grid.tiles_high(), 4096u);
+  EXPECT_TRUE(grid.IsKnown(0, 0));
+  // Normal growth near the map goes on.
+  grid.AddLogOdds(-64, -64, 500, -2000, 3500);
+  EXPECT_TRUE(grid.IsKnown(-64, -64));
+  EXPECT_EQ(grid.refused_writes(), 1u);
 }
 
 }  // namespace

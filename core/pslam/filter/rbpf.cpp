@@ -52,7 +52,8 @@ void Rbpf::Resample(const std::vector<double>& weights) {
 
 void Rbpf::Initialize(const LaserScan& scan) {
   const ScanPoints points = ToScanPoints(scan, options_.points);
-  Particle first{options_.initial_pose, 0.0, OccupancyGrid(options_.resolution), OccupancyGrid(options_.resolution),
+  Particle first{options_.initial_pose, 0.0, OccupancyGrid(options_.resolution, options_.grid),
+                 OccupancyGrid(options_.resolution, options_.grid),
                  std::make_shared<TrajectoryNode>(TrajectoryNode{options_.initial_pose, 0, nullptr}), {}};
   inserter_.Insert(points, first.pose, first.map);
   particles_.assign(static_cast<std::size_t>(std::max(1, options_.particles)), first);
@@ -258,6 +259,18 @@ std::vector<Pose2D> Rbpf::Trajectory() const {
     }
   }
   return out;
+}
+
+double Rbpf::MapBytes() const {
+  double bytes = 0.0;
+  for (const Particle& p : particles_) bytes += p.map.SharedBytes() + p.hypothesis.SharedBytes();
+  return bytes;
+}
+
+std::uint64_t Rbpf::RefusedMapWrites() const {
+  std::uint64_t refused = 0;
+  for (const Particle& p : particles_) refused = std::max({refused, p.map.refused_writes(), p.hypothesis.refused_writes()});
+  return refused;
 }
 
 }  // namespace pslam

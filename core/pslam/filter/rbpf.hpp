@@ -86,6 +86,10 @@ class Rbpf {
   const std::vector<Particle>& particles() const { return particles_; }
   int best_index() const { return best_; }
   const Particle& best() const { return particles_[static_cast<std::size_t>(best_)]; }
+  // Bytes of every particle's map and hypothesis grid, each shared tile counted once.
+  double MapBytes() const;
+  // Writes the particles' grids refused for their GridLimits (the most of any one grid).
+  std::uint64_t RefusedMapWrites() const;
   const RbpfStats& stats() const { return stats_; }
   // Null when loop closure is off.
   const LoopCloser* loop_closer() const { return loop_closer_.get(); }

@@ -6,6 +6,7 @@
 
 #include "pslam/filter/motion_model.hpp"
 #include "pslam/graph/loop_closure_options.hpp"
+#include "pslam/grid/occupancy_grid.hpp"
 #include "pslam/grid/scan_inserter.hpp"
 #include "pslam/matching/scan_likelihood.hpp"
 #include "pslam/matching/scan_matcher.hpp"
@@ -17,6 +18,7 @@ struct RbpfOptions {
   int particles = 30;
   std::uint64_t seed = 1;
   double resolution = 0.05;           // metres per cell
+  GridLimits grid;                    // bounds of every particle's grids
   Pose2D initial_pose;                // pose of the first scan in the map frame
   // The filter updates once the tracked motion since the last update exceeds either threshold;
   // scans in between are tracked against the best map only (stabilised odometry).

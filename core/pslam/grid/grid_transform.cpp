@@ -3,7 +3,7 @@
 namespace pslam {
 
 OccupancyGrid TransformGrid(const OccupancyGrid& grid, const Pose2D& move) {
-  OccupancyGrid out(grid.resolution());
+  OccupancyGrid out(grid.resolution(), grid.limits());
   const CellBox box = grid.KnownBounds();
   for (int y = box.min.y(); y <= box.max.y(); ++y) {
     for (int x = box.min.x(); x <= box.max.x(); ++x) {

@@ -25,10 +25,16 @@ const ProbabilityTable& Table() {
 
 float CellProbability(OccupancyGrid::Cell c) { return Table().p[static_cast<std::uint16_t>(c)]; }
 
-OccupancyGrid::OccupancyGrid(double resolution) : resolution_(resolution) {}
+OccupancyGrid::OccupancyGrid(double resolution, const GridLimits& limits)
+    : resolution_(resolution),
+      limits_(limits),
+      max_cell_(static_cast<int>(std::clamp(limits.max_extent_meters / resolution, 0.0, kMaxCellIndex - 1.0))) {}
 
 OccupancyGrid::OccupancyGrid(const OccupancyGrid& other)
     : resolution_(other.resolution_),
+      limits_(other.limits_),
+      max_cell_(other.max_cell_),
+      refused_writes_(other.refused_writes_),
       tile_origin_(other.tile_origin_),
       tiles_w_(other.tiles_w_),
       tiles_h_(other.tiles_h_),
@@ -39,6 +45,9 @@ OccupancyGrid::OccupancyGrid(const OccupancyGrid& other)
 OccupancyGrid& OccupancyGrid::operator=(const OccupancyGrid& other) {
   if (this != &other) {
     resolution_ = other.resolution_;
+    limits_ = other.limits_;
+    max_cell_ = other.max_cell_;
+    refused_writes_ = other.refused_writes_;
     tile_origin_ = other.tile_origin_;
     tiles_w_ = other.tiles_w_;
     tiles_h_ = other.tiles_h_;
@@ -51,10 +60,10 @@ OccupancyGrid& OccupancyGrid::operator=(const OccupancyGrid& other) {
 
 float OccupancyGrid::Probability(int cx, int cy) const { return CellProbability(At(cx, cy)); }
 
-void OccupancyGrid::EnsureTileSlot(int tx, int ty) {
+bool OccupancyGrid::EnsureTileSlot(int tx, int ty) {
   if (tiles_w_ > 0 && tx >= tile_origin_.x() && ty >= tile_origin_.y() && tx < tile_origin_.x() + tiles_w_ &&
       ty < tile_origin_.y() + tiles_h_) {
-    return;
+    return true;
   }
   // Grow with a margin so that a robot driving along an edge does not regrow on every tile.
   constexpr int kMargin = 4;
@@ -63,10 +72,21 @@ void OccupancyGrid::EnsureTileSlot(int tx, int ty) {
     lo = lo.cwiseMin(tile_origin_);
     hi = hi.cwiseMax(tile_origin_ + Eigen::Vector2i(tiles_w_ - 1, tiles_h_ - 1));
   }
+  const auto slots = [](const Eigen::Vector2i& a, const Eigen::Vector2i& b) {
+    return static_cast<std::int64_t>(b.x() - a.x() + 1) * (b.y() - a.y() + 1);
+  };
+  // The table is dense between the farthest tiles: refuse what would make it too large.
+  const auto max_slots = static_cast<std::int64_t>(limits_.max_tile_slots);
+  if (slots(lo, hi) > max_slots) return false;
+  const Eigen::Vector2i exact_lo = lo, exact_hi = hi;
   if (tx < tile_origin_.x() || tiles_w_ == 0) lo.x() -= kMargin;
   if (ty < tile_origin_.y() || tiles_w_ == 0) lo.y() -= kMargin;
   if (tx >= tile_origin_.x() + tiles_w_ || tiles_w_ == 0) hi.x() += kMargin;
   if (ty >= tile_origin_.y() + tiles_h_ || tiles_w_ == 0) hi.y() += kMargin;
+  if (slots(lo, hi) > max_slots) {
+    lo = exact_lo;
+    hi = exact_hi;
+  }
   const int w = hi.x() - lo.x() + 1, h = hi.y() - lo.y() + 1;
   std::vector<std::shared_ptr<Tile>> grown(static_cast<std::size_t>(w) * h);
   for (int iy = 0; iy < tiles_h_; ++iy) {
@@ -79,6 +99,7 @@ void OccupancyGrid::EnsureTileSlot(int tx, int ty) {
   tile_origin_ = lo;
   tiles_w_ = w;
   tiles_h_ = h;
+  return true;
 }
 
 OccupancyGrid::Cell& OccupancyGrid::MutableAt(int cx, int cy) {
@@ -86,7 +107,11 @@ OccupancyGrid::Cell& OccupancyGrid::MutableAt(int cx, int cy) {
   if (write_cache_ && write_cache_tile_.x() == tx && write_cache_tile_.y() == ty) {
     return write_cache_->cells[Local(cx, cy)];
   }
-  EnsureTileSlot(tx, ty);
+  if (std::abs(cx) > max_cell_ || std::abs(cy) > max_cell_ || !EnsureTileSlot(tx, ty)) {
+    ++refused_writes_;
+    scratch_ = kUnknown;
+    return scratch_;
+  }
   auto& slot = tiles_[static_cast<std::size_t>(ty - tile_origin_.y()) * tiles_w_ + (tx - tile_origin_.x())];
   if (!slot) {
     slot = std::make_shared<Tile>();
@@ -128,6 +153,14 @@ std::size_t OccupancyGrid::UniqueBytes() const {
   std::size_t bytes = tiles_.size() * sizeof(std::shared_ptr<Tile>);
   for (const auto& t : tiles_) {
     if (t && t.use_count() == 1) bytes += sizeof(Tile);
+  }
+  return bytes;
+}
+
+double OccupancyGrid::SharedBytes() const {
+  double bytes = static_cast<double>(tiles_.size() * sizeof(std::shared_ptr<Tile>));
+  for (const auto& t : tiles_) {
+    if (t) bytes += static_cast<double>(sizeof(Tile)) / static_cast<double>(t.use_count());
   }
   return bytes;
 }

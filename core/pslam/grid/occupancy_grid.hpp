@@ -27,6 +27,15 @@ struct CellBox {  // inclusive cell-index bounds; empty when min > max
   }
 };
 
+// Bounds that keep a grid finite whatever poses it is given (a wild odometry reading, a unit
+// mistake): cells farther than max_extent_meters from the origin, and cells whose tile would grow
+// the dense tile table past max_tile_slots, are not stored. Writes to them go nowhere and are
+// counted (refused_writes), reads of them say unknown. Normal maps never come near either bound.
+struct GridLimits {
+  double max_extent_meters = 1e5;
+  std::size_t max_tile_slots = std::size_t{1} << 20;  // 16 MiB of table: 1024 x 1024 tiles of 64 x 64 cells
+};
+
 class OccupancyGrid {
  public:
   using Cell = std::int16_t;                      // log-odds in milli-units
@@ -40,11 +49,14 @@ class OccupancyGrid {
     std::uint64_t revision = 0;                    // bumped by every write batch, for change tracking
   };
 
-  explicit OccupancyGrid(double resolution = 0.05);
+  static constexpr int kMaxCellIndex = 1 << 30;  // WorldToCell saturates here (and maps NaN to -kMaxCellIndex)
+
+  explicit OccupancyGrid(double resolution = 0.05, const GridLimits& limits = {});
 
   double resolution() const { return resolution_; }
+  const GridLimits& limits() const { return limits_; }
   Eigen::Vector2i WorldToCell(const Eigen::Vector2d& p) const {
-    return {static_cast<int>(std::floor(p.x() / resolution_)), static_cast<int>(std::floor(p.y() / resolution_))};
+    return {CellIndex(p.x() / resolution_), CellIndex(p.y() / resolution_)};
   }
   Eigen::Vector2d CellCenter(const Eigen::Vector2i& c) const {
     return {(c.x() + 0.5) * resolution_, (c.y() + 0.5) * resolution_};
@@ -62,8 +74,11 @@ class OccupancyGrid {
   }
   float Probability(int cx, int cy) const;
 
-  // Writable cell, creating, growing and un-sharing the tile as needed.
+  // Writable cell, creating, growing and un-sharing the tile as needed. A cell beyond the limits
+  // yields a scratch cell that nothing reads, and counts as a refused write.
   Cell& MutableAt(int cx, int cy);
+  // Writes to cells beyond the limits since the grid was made (copies inherit the count).
+  std::uint64_t refused_writes() const { return refused_writes_; }
   // Adds `delta` (milli log-odds) to a cell, clamped to [lo, hi]; an unknown cell starts at 0.
   void AddLogOdds(int cx, int cy, int delta, int lo, int hi) {
     Cell& c = MutableAt(cx, cy);
@@ -90,13 +105,25 @@ class OccupancyGrid {
   std::size_t AllocatedTiles() const;
   // Bytes held by tiles that no other grid shares: what this copy costs on its own.
   std::size_t UniqueBytes() const;
+  // The table plus each tile's bytes divided among the grids that share it: summed over grids that
+  // share tiles only with each other, every tile counts once.
+  double SharedBytes() const;
 
   static int Local(int cx, int cy) { return ((cy & kTileMask) << kTileBits) | (cx & kTileMask); }
 
  private:
-  void EnsureTileSlot(int tx, int ty);
+  static int CellIndex(double v) {
+    const double f = std::floor(v);
+    if (!(f > -kMaxCellIndex)) return -kMaxCellIndex;  // also NaN
+    return f > kMaxCellIndex ? kMaxCellIndex : static_cast<int>(f);
+  }
+  bool EnsureTileSlot(int tx, int ty);  // false: the table may not grow to hold the tile
 
   double resolution_;
+  GridLimits limits_;
+  int max_cell_ = 0;  // |cell index| bound from limits_.max_extent_meters
+  std::uint64_t refused_writes_ = 0;
+  Cell scratch_ = kUnknown;
   Eigen::Vector2i tile_origin_{0, 0};
   int tiles_w_ = 0;
   int tiles_h_ = 0;
