@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
 #include <utility>
 
 namespace pslam {
@@ -61,7 +62,13 @@ void AsyncPredictor::Work(std::stop_token stop) {
       job = std::exchange(job_, std::nullopt);
     }
     const auto start = std::chrono::steady_clock::now();
-    std::optional<Hypothesis> result = predict_(job->map, job->target, job->time, stop);
+    std::optional<Hypothesis> result;
+    try {
+      result = predict_(job->map, job->target, job->time, stop);
+    } catch (const std::exception&) {
+      // A prediction is a guess the filter can do without; on this thread the exception would
+      // terminate the process.
+    }
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     // The snapshot's tiles are released here, on the worker, before the result is published.
     job.reset();
