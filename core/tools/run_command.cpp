@@ -13,6 +13,7 @@
 #include "cli_args.hpp"
 #include "commands.hpp"
 #include "pslam/eval/trajectory_io.hpp"
+#include "pslam/experiment/log_run.hpp"
 #include "hypotheses_json.hpp"
 #include "pslam/filter/divergence_monitor.hpp"
 #include "pslam/slam/pslam.hpp"
@@ -156,6 +157,7 @@ int RunRunCommand(const std::vector<std::string>& args) {
       last_time = scan->timestamp;
       stamps.push_back(scan->timestamp_text);
       const PSlamStep step = slam.AddScan(*scan);
+      RequireMapWithinLimits(filter.best().map, static_cast<int>(stamps.size()), scan->timestamp_text);
       if (monitor.Add(step.filter, *scan)) {
         progress.Interrupt();
         ReportTracking(monitor, first_time);

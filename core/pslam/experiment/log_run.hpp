@@ -26,6 +26,10 @@ using LogProgress = std::function<void(double fraction, int scans)>;
 // Maps the log with 'options' (heading_targets is forced on: a log has no planner), stopping after
 // 'max_scans' scans when it is positive (quick runs). Throws std::runtime_error when the log
 // cannot be read or holds no laser scans.
+// Throws std::runtime_error naming scan 'scan_number' when 'map' refused cells beyond its limits
+// (GridLimits): the poses are implausible and the map would be nonsense.
+void RequireMapWithinLimits(const OccupancyGrid& map, int scan_number, const std::string& stamp);
+
 LogRunResult RunLog(const std::string& log_path, PSlamOptions options, const LogProgress& progress = {},
                     int max_scans = 0);
 

@@ -21,18 +21,26 @@ Bzip2LineSource::~Bzip2LineSource() {
 
 bool Bzip2LineSource::ReadLine(std::string& line) {
   line.clear();
+  bool too_long = false;
   for (;;) {
     if (out_begin_ == out_end_ && !Refill()) {
       done_ = true;
+      if (too_long) throw LineTooLong();
       return !line.empty();  // a last line without '\n'
     }
     const char* begin = out_.data() + out_begin_;
     const char* end = out_.data() + out_end_;
     const char* newline = std::find(begin, end, '\n');
-    line.append(begin, newline);
+    if (too_long || line.size() + static_cast<std::size_t>(newline - begin) > kMaxLineBytes) {
+      too_long = true;  // skip to the end of the line without keeping it
+      line.clear();
+    } else {
+      line.append(begin, newline);
+    }
     out_begin_ = static_cast<std::size_t>(newline - out_.data());
     if (newline != end) {
       ++out_begin_;
+      if (too_long) throw LineTooLong();
       return true;
     }
   }

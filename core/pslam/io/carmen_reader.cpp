@@ -30,6 +30,8 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 // A laser pose further than this from the robot pose in the same line is not a mount offset (some
 // logs are said to store corrected poses in the first triple), so it is ignored.
 constexpr double kMaxPlausibleMountOffset = 2.0;
+// No robot's odometry reads 10,000 km (or radians): such a pose is corrupt, not a place to map.
+constexpr double kMaxPlausibleCoordinate = 1e7;
 
 using Tokens = std::span<const std::string_view>;
 
@@ -51,11 +53,24 @@ class StreamSource : public LineSource {
     if (start != std::streampos(-1)) in_.seekg(start);
   }
   bool ReadLine(std::string& line) override {
-    if (!std::getline(in_, line)) {
+    line.clear();
+    std::streambuf& in = *in_.rdbuf();
+    bool any = false, too_long = false;
+    for (int c = in.sbumpc(); c != std::char_traits<char>::eof(); c = in.sbumpc()) {
+      any = true;
+      consumed_ += 1.0;
+      if (c == '\n') break;
+      if (line.size() < kMaxLineBytes) {
+        line.push_back(static_cast<char>(c));
+      } else {
+        too_long = true;
+      }
+    }
+    if (!any) {
       done_ = true;
       return false;
     }
-    consumed_ += static_cast<double>(line.size()) + (in_.eof() ? 0.0 : 1.0);
+    if (too_long) throw LineTooLong();
     return true;
   }
   double Progress() const override {
@@ -82,14 +97,24 @@ class GzSource : public LineSource {
   bool ReadLine(std::string& line) override {
     line.clear();
     char buf[1 << 14];
+    bool too_long = false;
     while (gzgets(file_, buf, sizeof buf)) {  // a long line arrives in several pieces
-      line.append(buf);
-      if (!line.empty() && line.back() == '\n') {
+      const std::size_t n = std::strlen(buf);
+      const bool ends = n > 0 && buf[n - 1] == '\n';
+      if (line.size() + n > kMaxLineBytes + (ends ? 1 : 0)) {
+        too_long = true;
+        line.clear();
+      } else {
+        line.append(buf, n);
+      }
+      if (ends) {
+        if (too_long) throw LineTooLong();
         line.pop_back();
         return true;
       }
     }
     done_ = true;
+    if (too_long) throw LineTooLong();
     // A truncated archive ends the input; its cut-off last line is then reported as corrupt.
     return !line.empty();
   }
@@ -191,7 +216,13 @@ class Fields {
          std::to_string(tok_.size()) + (tok_.size() < expected ? " (truncated line?)" : ""));
   }
   Pose2D PoseAt(std::size_t i, const char* which) const {
-    return {Finite(i, which), Finite(i + 1, which), Finite(i + 2, which)};
+    const Pose2D pose{Finite(i, which), Finite(i + 1, which), Finite(i + 2, which)};
+    if (std::abs(pose.x) > kMaxPlausibleCoordinate || std::abs(pose.y) > kMaxPlausibleCoordinate ||
+        std::abs(pose.theta) > kMaxPlausibleCoordinate) {
+      Fail(std::string(which) + " is implausibly far from the origin: '" + std::string(tok_[i]) + " " +
+           std::string(tok_[i + 1]) + " " + std::string(tok_[i + 2]) + "'");
+    }
+    return pose;
   }
   [[noreturn]] void Fail(const std::string& what) const { throw LineError{std::string(tok_[0]) + ": " + what}; }
 
@@ -378,7 +409,17 @@ std::optional<LogRecord> CarmenReader::Impl::Next() {
 
 // Reads lines until one record has been buffered; false at the end of the input.
 bool CarmenReader::Impl::ReadRecord() {
-  while (source->ReadLine(line)) {
+  for (;;) {
+    bool more = false;
+    try {
+      more = source->ReadLine(line);
+    } catch (const LineTooLong& e) {  // never buffered whole: a corrupt line like any other
+      ++stats.lines;
+      ++line_number;
+      Corrupt(e.what());
+      continue;
+    }
+    if (!more) break;
     ++stats.lines;
     ++line_number;
     while (!line.empty() && line.back() == '\r') line.pop_back();  // CRLF files
