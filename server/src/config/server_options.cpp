@@ -16,6 +16,7 @@ const char* const kUsage =
     "                    [--io-threads N] [--http-workers N] [--agent-token T]... [--viewer-token T]...\n"
     "                    [--max-inflight N] [--max-sessions N] [--max-message-bytes N] [--max-body-bytes N]\n"
     "                    [--checkpoint-seconds S] [--sqlite-sync full|normal] [--on-restart resume|close]\n"
+    "                    [--session-memory-mb N]\n"
     "  Listens on 127.0.0.1:8080 by default; port 0 picks a free port. Beyond loopback, agent (write)\n"
     "  and viewer (read) tokens are required. Flags override the config file (JSON, see\n"
     "  schema/config/server.schema.json).\n";
@@ -80,6 +81,7 @@ void ApplyConfigFile(const std::filesystem::path& path, ServerOptions& o) {
     if (auto v = l.Integer("max_particles")) o.settings_limits.max_particles = static_cast<int>(*v);
     if (auto v = l.Integer("max_beams")) o.settings_limits.max_beams = static_cast<int>(*v);
     if (auto v = l.Integer("max_filter_threads")) o.settings_limits.max_threads = static_cast<int>(*v);
+    if (auto v = l.Integer("max_session_memory_mb")) o.settings_limits.max_memory_mb = static_cast<int>(*v);
     if (auto v = l.Integer("max_inflight_inputs")) o.max_inflight_inputs = *v;
     if (auto v = l.Integer("max_running_sessions")) o.max_running_sessions = static_cast<std::size_t>(*v);
     if (auto v = l.Integer("max_message_bytes")) o.net.max_message_bytes = static_cast<std::size_t>(*v);
@@ -147,6 +149,8 @@ Result<ParsedCommandLine> ParseCommandLine(const std::vector<std::string>& args,
       } else if (flag == "--predict") {
         if (value != "on" && value != "off") return Error{"--predict must be on or off"};
         overrides["predict"] = value == "on";
+      } else if (flag == "--session-memory-mb") {
+        overrides["memory_limit_mb"] = integer(16, 1 << 20);
       } else if (flag == "--filter-threads") {
         overrides["threads"] = integer(1, 1024);
       } else if (flag == "--io-threads") {

@@ -1,5 +1,6 @@
 #include "engine/exploration_planner.hpp"
 
+#include <exception>
 #include <utility>
 
 #include "pslam/explore/frontier.hpp"
@@ -70,7 +71,12 @@ void ExplorationPlanner::Work(std::stop_token stop) {
       job = std::move(*job_);
       job_.reset();
     }
-    PlanResult result = Plan(job);
+    PlanResult result;
+    try {
+      result = Plan(job);
+    } catch (const std::exception& e) {  // on this thread it would terminate the server
+      result.error = e.what();
+    }
     {
       std::lock_guard lock(mutex_);
       result_ = std::move(result);

@@ -12,6 +12,7 @@
 #include <optional>
 #include <stop_token>
 #include <thread>
+#include <string>
 #include <vector>
 
 #include "pslam/common/pose2d.hpp"
@@ -34,6 +35,7 @@ struct PlanResult {
   double time = 0.0;
   std::optional<ExploreTarget> target;  // empty: exploration is done (or blocked)
   std::vector<std::array<double, 2>> frontiers;  // cluster centroids
+  std::string error;  // planning threw (out of memory, ...): the session's engine fails with this
 };
 
 class ExplorationPlanner {

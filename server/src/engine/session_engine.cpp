@@ -40,7 +40,7 @@ void SessionEngine::Start(BacklogReader backlog, std::int64_t backlog_until) {
 void SessionEngine::Push(InputRecord input, SteadyTime received) {
   {
     std::lock_guard lock(mutex_);
-    if (stop_ != StopMode::kNone) return;
+    if (stop_ != StopMode::kNone || failed_) return;
     queue_.push_back({std::move(input), received});
   }
   wake_.notify_one();
@@ -116,6 +116,7 @@ void SessionEngine::Loop(BacklogReader backlog, std::int64_t backlog_until) {
       if (after >= backlog_until) more = false;
     }
     rebuilding_ = false;
+    if (backlog_until > 0 && after >= backlog_until && sinks_.rebuilt) sinks_.rebuilt();
 
     for (;;) {
       Queued next;
@@ -154,15 +155,25 @@ void SessionEngine::Loop(BacklogReader backlog, std::int64_t backlog_until) {
       std::lock_guard lock(mutex_);
       mode = stop_;
     }
-    if (mode == StopMode::kAbort) return;
-    PublishLive(/*final_tick=*/true);
-    WriteCheckpoint(/*final_checkpoint=*/true);
-    if (mode == StopMode::kFinish && sinks_.finished) sinks_.finished();
+    if (mode != StopMode::kAbort) {
+      PublishLive(/*final_tick=*/true);
+      WriteCheckpoint(/*final_checkpoint=*/true);
+      if (mode == StopMode::kFinish && sinks_.finished) sinks_.finished();
+    }
   } catch (const std::exception& e) {
     failed_ = true;
+    // Release the maps now: the session is over, and after an allocation failure the process
+    // needs the memory back before anything else.
+    pipeline_.reset();
+    {
+      std::lock_guard lock(mutex_);
+      latest_frame_.reset();
+      queue_.clear();
+    }
     room_.notify_all();
     if (sinks_.failed) sinks_.failed(e.what());
   }
+  exited_ = true;
 }
 
 // A loop closure corrected the past: viewers and storage get the whole corrected trajectory.

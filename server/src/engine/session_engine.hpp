@@ -39,7 +39,10 @@ struct EngineSinks {
   std::function<void(std::int64_t processed_seq)> progress;
   std::function<void(const ExplorationTarget&)> target;
   std::function<void(const TrackingChange&)> tracking;  // not while rebuilding: reported when first seen
+  // The filter threw (out of memory, the memory limit, ...). The engine has already dropped its
+  // pipeline (the memory) and takes no more inputs; nothing of the engine runs after this returns.
   std::function<void(const std::string& error)> failed;
+  std::function<void()> rebuilt;   // the stored inputs of a resumed session are all in the filter
   std::function<void()> finished;  // after the final checkpoint of Finish()
 };
 
@@ -73,6 +76,8 @@ class SessionEngine {
   std::int64_t processed_seq() const { return processed_seq_.load(); }
   std::size_t queued() const;
   bool failed() const { return failed_.load(); }
+  // The engine's thread has left its loop (joining it is immediate).
+  bool exited() const { return exited_.load(); }
   EngineStats stats() const;
   std::shared_ptr<const LiveFrame> latest_frame() const;
 
@@ -135,6 +140,7 @@ class SessionEngine {
   std::atomic<std::int64_t> processed_seq_{0};
   std::atomic<bool> failed_{false};
   std::atomic<bool> rebuilding_{false};
+  std::atomic<bool> exited_{false};
   std::thread thread_;
 };
 

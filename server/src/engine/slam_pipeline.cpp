@@ -2,7 +2,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -36,6 +38,21 @@ LaserScan ToLaserScan(const InputRecord& input, const LaserGeometry& laser) {
   return scan;
 }
 
+double MemoryLimitBytes(const SessionSettings& settings) {
+  return static_cast<double>(settings.memory_limit_mb) * (1 << 20);
+}
+
+// The grids' tile tables are dense between the farthest tiles, and so are the rasters computed over
+// a map's extent: each table slot costs a pointer per grid (two per particle) and, planned on, some
+// 16 bytes for each of its cells (4 where only loop closure rasterises submaps). Bounding the table
+// by the memory limit stops a far jump before it allocates, not after.
+std::size_t MaxTileSlots(const SessionSettings& settings) {
+  constexpr double kCellsPerTile = OccupancyGrid::kTileSize * OccupancyGrid::kTileSize;
+  const double per_slot = 2.0 * settings.particles * sizeof(std::shared_ptr<OccupancyGrid::Tile>) +
+                          kCellsPerTile * (settings.plan_targets ? 16.0 : 4.0);
+  return static_cast<std::size_t>(std::max(64.0, MemoryLimitBytes(settings) / per_slot));
+}
+
 PSlamOptions ToPSlamOptions(const SessionSettings& settings) {
   PSlamOptions o;
   RbpfOptions& f = o.filter;
@@ -47,6 +64,7 @@ PSlamOptions ToPSlamOptions(const SessionSettings& settings) {
   f.angular_update = settings.angular_update;
   f.resample_threshold = settings.resample_threshold;
   SetDegenerateRatio(f, settings.degenerate_ratio);
+  f.grid.max_tile_slots = MaxTileSlots(settings);
   o.predict = settings.predict;
   o.heading_targets = !settings.plan_targets;
   // Predictor tunables arrive as a JSON object; unknown keys are errors, not silent defaults.
@@ -65,6 +83,21 @@ PSlamOptions ToPSlamOptions(const SessionSettings& settings) {
 SlamPipeline::SlamPipeline(const SessionSettings& settings, const LaserGeometry& laser, std::function<void()> plan_ready)
     : settings_(settings), laser_(laser), slam_(ToPSlamOptions(settings)), divergence_(settings.particles) {
   if (settings_.plan_targets) planner_ = std::make_unique<ExplorationPlanner>(std::move(plan_ready));
+}
+
+void SlamPipeline::CheckMemory() const {
+  const Rbpf& filter = slam_.filter();
+  const auto mib = [](double bytes) { return std::to_string(static_cast<long long>(bytes / (1 << 20))) + " MiB"; };
+  const std::string limit = std::to_string(settings_.memory_limit_mb) + " MiB";
+  if (filter.RefusedMapWrites() > 0) {
+    throw std::runtime_error("memory limit: the map would grow past what the session's " + limit +
+                             " allow (the odometry jumped far away?)");
+  }
+  const double bytes = filter.MapBytes();
+  if (bytes > MemoryLimitBytes(settings_)) {
+    throw std::runtime_error("memory limit: the maps of " + std::to_string(filter.particles().size()) +
+                             " particles take " + mib(bytes) + ", more than the session's " + limit);
+  }
 }
 
 HypothesisRecord SlamPipeline::ToRecord(const Hypothesis& h) const {
@@ -94,6 +127,7 @@ PipelineStep SlamPipeline::Add(const InputRecord& input) {
   step.scan = std::make_shared<const LaserScan>(ToLaserScan(input, laser_));
   const std::size_t known = slam_.hypotheses().size();
   PSlamStep s = slam_.AddScan(*step.scan);
+  CheckMemory();
   step.filter = s.filter;
   step.tracking_changed = divergence_.Add(s.filter, *step.scan);
   // New hypotheses (possibly taken from the predictor during this scan) and changed ones.
@@ -130,6 +164,7 @@ std::optional<ExplorationTarget> SlamPipeline::TakePlan() {
   if (!planner_) return std::nullopt;
   std::optional<PlanResult> plan = planner_->TakeResult();
   if (!plan) return std::nullopt;
+  if (!plan->error.empty()) throw std::runtime_error("exploration planning failed: " + plan->error);
   frontiers_ = std::move(plan->frontiers);
   const Pose2D& pose = plan->pose;
   if (!plan->target) {

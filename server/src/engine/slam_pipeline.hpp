@@ -37,6 +37,10 @@ struct PipelineStep {
 // std::runtime_error when the number of ranges is not the laser's beam count.
 LaserScan ToLaserScan(const InputRecord& input, const LaserGeometry& laser);
 
+// The session's memory limit in bytes, and how many tile slots its grids may hold under it.
+double MemoryLimitBytes(const SessionSettings& settings);
+std::size_t MaxTileSlots(const SessionSettings& settings);
+
 // P-SLAM options for a session; throws std::invalid_argument on a bad predictor setting.
 PSlamOptions ToPSlamOptions(const SessionSettings& settings);
 
@@ -47,6 +51,8 @@ class SlamPipeline {
   SlamPipeline(const SlamPipeline&) = delete;
   SlamPipeline& operator=(const SlamPipeline&) = delete;
 
+  // Throws std::runtime_error("memory limit: ...") once the session's grids exceed its memory
+  // limit or refused a cell for it: the session must fail then.
   PipelineStep Add(const InputRecord& input);
   // Applies a finished plan: frontiers, and the new target (returned) if it is one the robot must
   // be sent. Add() does this too; call it when the planner says a plan is ready and no input is.
@@ -70,6 +76,7 @@ class SlamPipeline {
 
  private:
   HypothesisRecord ToRecord(const Hypothesis& h) const;
+  void CheckMemory() const;
   void MaybeRequestPlan(double time);
 
   SessionSettings settings_;

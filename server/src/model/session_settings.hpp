@@ -27,6 +27,9 @@ struct SessionSettings {
   // Scan matching's degeneracy guard (ScanMatchOptions::degenerate_ratio), 0: off. A short-range
   // laser that sees neither end of a corridor needs it (0.15 for the simulated 8 m LMS-200).
   double degenerate_ratio = 0.0;
+  // The session fails ("memory limit") rather than let its maps grow past this; the engine's own
+  // accounting (particle grids, shared tiles once) plus what the map's extent costs to plan on.
+  int memory_limit_mb = 1024;
   // Settings of the structure predictor as a JSON object, kept opaque here: the predictor layer
   // parses (and validates) it, so adding a predictor tunable does not touch the server.
   std::string predictor_json = "{}";

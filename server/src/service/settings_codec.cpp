@@ -1,5 +1,7 @@
 #include "service/settings_codec.hpp"
 
+#include <cmath>
+
 #include "engine/slam_pipeline.hpp"
 
 #include "service/json_fields.hpp"
@@ -44,6 +46,10 @@ SessionSettings ParseSessionSettings(const nlohmann::json& json, const SessionSe
     if (*v < 0.0 || *v >= 1.0) f.Fail("degenerate_ratio", "must be in [0, 1)");
     s.degenerate_ratio = *v;
   }
+  if (auto v = f.Integer("memory_limit_mb")) {
+    if (*v < 16 || *v > limits.max_memory_mb) f.Fail("memory_limit_mb", "must be in [16, " + std::to_string(limits.max_memory_mb) + "]");
+    s.memory_limit_mb = static_cast<int>(*v);
+  }
   if (const nlohmann::json* p = f.Object("predictor")) s.predictor_json = p->dump();
   f.RejectUnknown();
   // The engine builds its P-SLAM from these settings; refuse them here, while the client can still
@@ -66,6 +72,7 @@ nlohmann::json SessionSettingsToJson(const SessionSettings& s) {
           {"angular_update_radians", s.angular_update},
           {"resample_threshold", s.resample_threshold},
           {"degenerate_ratio", s.degenerate_ratio},
+          {"memory_limit_mb", s.memory_limit_mb},
           {"predictor", nlohmann::json::parse(s.predictor_json, nullptr, false).is_object()
                             ? nlohmann::json::parse(s.predictor_json)
                             : nlohmann::json::object()}};
@@ -93,6 +100,9 @@ LaserGeometry ParseLaserGeometry(const nlohmann::json& json, const SettingsLimit
   if (std::abs(l.angle_min) > 7.0) f.Fail("angle_min", "must be in [-7, 7] rad");
   if (l.max_range <= 0.0 || l.max_range > 1000.0) f.Fail("max_range", "must be in (0, 1000] m");
   if (l.min_range < 0.0 || l.min_range >= l.max_range) f.Fail("min_range", "must be in [0, max_range)");
+  // A sensor mounted metres off the robot is a unit mistake, and would move every scan that far.
+  if (std::abs(l.offset_x) > 10.0 || std::abs(l.offset_y) > 10.0) f.Fail("offset", "x and y must be in [-10, 10] m");
+  if (std::abs(l.offset_theta) > 7.0) f.Fail("offset", "theta must be in [-7, 7] rad");
   return l;
 }
 

@@ -12,6 +12,7 @@ struct SettingsLimits {
   int max_particles = 1000;
   int max_beams = 8192;
   int max_threads = 16;
+  int max_memory_mb = 65536;  // per session
 };
 
 // 'defaults' overridden by the fields present in 'json' (which may be null: no overrides).
