@@ -136,6 +136,9 @@ void IngestSession::HandleInput(InputRecord input) {
       Send(ErrorMessage("bad_message", "seq " + std::to_string(seq) + " is out of order: expected " +
                                            std::to_string(result.expected_seq) + " (resend from there)"));
       return;
+    case MappingService::Admission::kImplausible:
+      Send(ErrorMessage("bad_message", result.problem));  // not stored: the agent may send a corrected one
+      return;
     case MappingService::Admission::kClosed:
       Send(ErrorMessage("closed", "the session is closed"));
       CloseAfterSending(websocket::close_code::normal, "session closed");

@@ -1,7 +1,9 @@
 #include "service/ingest_codec.hpp"
 
 #include <bit>
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 
@@ -16,11 +18,40 @@ constexpr char kBinaryMagic[4] = {'P', 'S', 'C', '1'};
 
 IngestError Bad(const std::string& message) { return {"bad_message", message}; }
 
+std::string Number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
 // Odometry and scan poses: finite numbers.
 void ReadPose(JsonFields& f, InputRecord& in) {
   in.x = f.RequiredNumber("x");
   in.y = f.RequiredNumber("y");
   in.theta = f.RequiredNumber("theta");
+}
+
+// Bounds of what a robot can report (schema/ws/ingest.md, "Physical bounds"); "" when within them.
+std::string OutOfBounds(const InputRecord& in) {
+  if (std::abs(in.t) > kMaxStampSeconds) return "t = " + Number(in.t) + " s is not a plausible time stamp";
+  if (std::abs(in.x) > kMaxOdometryMeters || std::abs(in.y) > kMaxOdometryMeters ||
+      std::abs(in.theta) > kMaxOdometryMeters) {
+    return "odometry (" + Number(in.x) + ", " + Number(in.y) + ", " + Number(in.theta) + ") is beyond " +
+           Number(kMaxOdometryMeters) + " m (or rad) of the origin";
+  }
+  if (std::abs(in.v) > kMaxSpeedMetersPerSecond || std::abs(in.w) > 1e3) {
+    return "velocities v = " + Number(in.v) + ", w = " + Number(in.w) + " are not plausible";
+  }
+  for (float r : in.ranges) {
+    if (r > kMaxRangeMeters) return "a range of " + Number(r) + " m is beyond " + Number(kMaxRangeMeters) + " m";
+  }
+  return "";
+}
+
+IngestMessage Checked(InputRecord in) {
+  const std::string problem = OutOfBounds(in);
+  if (problem.empty()) return in;
+  return Bad(std::string(in.kind == InputKind::kScan ? "scan " : "odom ") + std::to_string(in.seq) + ": " + problem);
 }
 
 IngestMessage DecodeHello(const nlohmann::json& j, const SettingsLimits& limits) {
@@ -59,7 +90,7 @@ IngestMessage DecodeOdom(const nlohmann::json& j) {
   in.v = f.NumberOr("v", 0.0);
   in.w = f.NumberOr("w", 0.0);
   f.RejectUnknown();
-  return in;
+  return Checked(std::move(in));
 }
 
 IngestMessage DecodeScan(const nlohmann::json& j, const LaserGeometry& laser) {
@@ -92,9 +123,9 @@ IngestMessage DecodeScan(const nlohmann::json& j, const LaserGeometry& laser) {
     if (!std::isfinite(v) || v < 0.0) {
       return Bad("scan " + std::to_string(in.seq) + ": ranges must be finite and not negative (null: no return)");
     }
-    in.ranges.push_back(static_cast<float>(v));
+    in.ranges.push_back(static_cast<float>(std::min(v, 1e30)));  // past float's range: still refused below
   }
-  return in;
+  return Checked(std::move(in));
 }
 
 template <typename T>
@@ -162,7 +193,16 @@ IngestMessage DecodeBinaryScan(std::span<const std::uint8_t> bytes, const LaserG
     if (r < 0.0f) return Bad(what + "ranges must not be negative (NaN: no return)");
     if (std::isinf(r)) r = std::numeric_limits<float>::quiet_NaN();  // +inf: no return
   }
-  return in;
+  return Checked(std::move(in));
+}
+
+std::string PoseJumpProblem(const InputRecord& previous, const InputRecord& next) {
+  const double distance = std::hypot(next.x - previous.x, next.y - previous.y);
+  const double dt = std::abs(next.t - previous.t);
+  if (distance <= kPoseJumpSlackMeters + kMaxSpeedMetersPerSecond * dt) return "";
+  return std::string(next.kind == InputKind::kScan ? "scan " : "odom ") + std::to_string(next.seq) + ": odometry moved " +
+         Number(distance) + " m in " + Number(dt) + " s since seq " + std::to_string(previous.seq) + ", faster than " +
+         Number(kMaxSpeedMetersPerSecond) + " m/s (wrong units?)";
 }
 
 std::string EncodeBinaryScan(const InputRecord& scan) {

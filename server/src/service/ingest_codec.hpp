@@ -20,6 +20,14 @@ namespace pslam::server {
 
 inline constexpr int kIngestProtocolVersion = 1;
 
+// Physical bounds of an input: beyond them it is refused (bad_message) and not stored, since a
+// filter fed such a pose would try to map the space between (schema/ws/ingest.md).
+inline constexpr double kMaxOdometryMeters = 1e7;        // |x|, |y| (and |theta| in rad)
+inline constexpr double kMaxStampSeconds = 1e11;         // |t|
+inline constexpr double kMaxRangeMeters = 1e4;
+inline constexpr double kMaxSpeedMetersPerSecond = 50.0;  // odometry between consecutive inputs ...
+inline constexpr double kPoseJumpSlackMeters = 1.0;       // ... plus this, for equal time stamps
+
 struct HelloMessage {
   int version = kIngestProtocolVersion;
   std::string robot_id;
@@ -41,6 +49,9 @@ using IngestMessage = std::variant<HelloMessage, InputRecord, IngestError>;
 IngestMessage DecodeTextMessage(std::string_view text, const LaserGeometry* laser, const SettingsLimits& limits);
 // A binary frame: a PSC1 scan.
 IngestMessage DecodeBinaryScan(std::span<const std::uint8_t> bytes, const LaserGeometry* laser);
+// Why 'next' cannot follow 'previous' (the session's last admitted input): its odometry moved
+// faster than kMaxSpeedMetersPerSecond over the time between them. Empty when it can.
+std::string PoseJumpProblem(const InputRecord& previous, const InputRecord& next);
 // Encodes a PSC1 scan (for agents and tests).
 std::string EncodeBinaryScan(const InputRecord& scan);
 

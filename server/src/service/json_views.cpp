@@ -23,6 +23,7 @@ nlohmann::json SessionToJson(const SessionRow& row) {
                       {"scans", row.scans},
                       {"metrics", ParseStoredJson(row.metrics_json)}};
   j["replay_of"] = row.replay_of ? nlohmann::json(*row.replay_of) : nlohmann::json();
+  j["failure"] = row.failure ? nlohmann::json(*row.failure) : nlohmann::json();
   return j;
 }
 

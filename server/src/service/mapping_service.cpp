@@ -15,6 +15,7 @@ namespace {
 constexpr int kBacklogChunk = 256;
 constexpr int kSnapshotTrajectoryLimit = 1 << 20;
 constexpr int kSnapshotHypothesisLimit = 10000;
+constexpr std::size_t kRememberedFailures = 1024;  // for agents asking to resume a failed session
 }  // namespace
 
 MappingService::MappingService(ServiceOptions options, StorageWriter& writer, ReadPool& reads)
@@ -88,29 +89,16 @@ std::shared_ptr<SessionRuntime> MappingService::Launch(const SessionRow& row, co
     LogEvent(id, "filter_lost",
              {{"scan_index", change.scan_index}, {"seq", change.seq}, {"t", change.t}, {"reason", change.reason}});
   };
-  sinks.failed = [this, id, weak](const std::string& error) {
-    std::cerr << "session " << id << ": engine failed: " << error << "\n";
-    LogEvent(id, "engine_failed", {{"error", error}});
-    writer_.Submit([id](SessionRepository& repo) { repo.SetStatus(id, "failed", UnixNow()); });
-    const auto runtime = weak.lock();
-    if (!runtime) return;
-    std::shared_ptr<AgentLink> agent;
-    {
-      std::lock_guard lock(runtime->mutex);
-      runtime->closing = true;
-      runtime->agent_waiting = false;
-      agent = runtime->agent.lock();
-      runtime->agent.reset();
-      runtime->progress.notify_all();
-    }
-    // The filter will never catch up: an agent paused for back-pressure would wait forever.
-    if (agent) agent->Disconnect("engine_failed", "the session's filter failed; it is closed as failed");
+  sinks.failed = [this, id, weak](const std::string& error) { OnEngineFailed(id, weak, error); };
+  sinks.rebuilt = [this, id] {
+    writer_.Submit([id](SessionRepository& repo) { repo.SetRebuilds(id, 0); });
   };
   SessionSettings engine_settings = settings;
   engine_settings.plan_targets = row.source == "agent";
   rt->engine = std::make_unique<SessionEngine>(row.id, engine_settings, laser, options_.timing, std::move(sinks));
   {
     std::lock_guard lock(mutex_);
+    ReapRetired();
     running_[row.id] = rt;
   }
   BacklogReader backlog = [this, id](std::int64_t after) {
@@ -119,6 +107,55 @@ std::shared_ptr<SessionRuntime> MappingService::Launch(const SessionRow& row, co
   };
   rt->engine->Start(std::move(backlog), stored_seq);
   return rt;
+}
+
+// On the failed engine's thread. The failure is committed before anything else happens: until then
+// the session may not take inputs, and a restart must find it failed, not rebuild it again.
+void MappingService::OnEngineFailed(const std::string& id, const std::weak_ptr<SessionRuntime>& weak,
+                                    const std::string& error) {
+  std::cerr << "session " << id << ": engine failed: " << error << "\n";
+  const auto rt = weak.lock();
+  std::shared_ptr<AgentLink> agent;
+  if (rt) {
+    std::lock_guard lock(rt->mutex);
+    rt->closing = true;
+    rt->agent_waiting = false;
+    agent = rt->agent.lock();
+    rt->agent.reset();
+    rt->progress.notify_all();
+  }
+  try {
+    writer_.Execute([&](SessionRepository& repo) {
+      repo.SetFailed(id, error, UnixNow());
+      repo.AddEvent(id, "engine_failed", nlohmann::json{{"error", error}}.dump(-1, ' ', false,
+                                                                             nlohmann::json::error_handler_t::replace),
+                    UnixNow());
+    });
+  } catch (const std::exception& e) {
+    std::cerr << "session " << id << ": cannot record the failure: " << e.what() << "\n";
+  }
+  // The running slot is free again; the engine (its maps already dropped) is joined off its thread.
+  {
+    std::lock_guard lock(mutex_);
+    const auto it = running_.find(id);
+    if (it != running_.end() && it->second == rt) {
+      retired_.push_back(it->second);
+      running_.erase(it);
+    }
+    if (failures_.size() >= kRememberedFailures) failures_.erase(failures_.begin());
+    failures_[id] = error;
+  }
+  // The filter will never catch up: an agent paused for back-pressure would wait forever.
+  if (agent) agent->Disconnect("engine_failed", "the session failed (" + error + "); it is closed as failed");
+  if (end_sink_) end_sink_(id, "failed");
+}
+
+void MappingService::ReapRetired() {
+  std::erase_if(retired_, [](const std::shared_ptr<SessionRuntime>& rt) {
+    if (!rt->engine->exited()) return false;
+    rt->engine->Abort();  // joins at once: the thread has left its loop
+    return true;
+  });
 }
 
 void MappingService::Recover() {
@@ -130,6 +167,19 @@ void MappingService::Recover() {
     }
   }
   for (const SessionRow& row : rows) {
+    // Start-ups in a row that died rebuilding the same stored inputs: a poison the filter cannot
+    // survive. (An agent still streaming in between stores more inputs, so kills do not add up.)
+    const std::int64_t attempts = row.rebuild_seq == row.last_seq ? row.rebuilds : 0;
+    if (attempts >= kMaxRebuilds) {
+      const std::string why = "quarantined: rebuilding its " + std::to_string(row.last_seq) + " stored inputs after a restart began " +
+                              std::to_string(attempts) + " times in a row and never completed (the server died during it)";
+      std::cerr << "session " << row.id << ": " << why << "\n";
+      writer_.Execute([&](SessionRepository& repo) {
+        repo.SetFailed(row.id, why, UnixNow());
+        repo.AddEvent(row.id, "engine_failed", nlohmann::json{{"error", why}}.dump(), UnixNow());
+      });
+      continue;
+    }
     SessionSettings settings;
     LaserGeometry laser;
     try {
@@ -137,8 +187,14 @@ void MappingService::Recover() {
       laser = ParseLaserGeometry(ParseStoredJson(row.laser_json), options_.limits);
     } catch (const std::exception& e) {
       std::cerr << "session " << row.id << ": cannot resume (" << e.what() << "), marking it failed\n";
-      writer_.Execute([id = row.id](SessionRepository& repo) { repo.SetStatus(id, "failed", UnixNow()); });
+      writer_.Execute([&](SessionRepository& repo) {
+        repo.SetFailed(row.id, std::string("cannot resume: ") + e.what(), UnixNow());
+      });
       continue;
+    }
+    // Counted before the rebuild starts, reset when it completes (or the server stops cleanly).
+    if (row.last_seq > 0) {
+      writer_.Execute([&](SessionRepository& repo) { repo.SetRebuilds(row.id, attempts + 1, row.last_seq); });
     }
     Launch(row, settings, laser, row.last_seq);
     // A replay's feeder did not survive the restart: what it stored is mapped, then the session
@@ -182,7 +238,15 @@ void MappingService::Shutdown() {
       rt->progress.notify_all();
     }
     rt->engine->Stop();  // checkpoints; the session stays active and resumes at the next start
+    // A clean stop, even in the middle of a rebuild, is no reason to quarantine the session.
+    if (!rt->engine->failed()) writer_.Submit([id = id](SessionRepository& repo) { repo.SetRebuilds(id, 0); });
   }
+  std::vector<std::shared_ptr<SessionRuntime>> retired;
+  {
+    std::lock_guard lock(mutex_);
+    retired.swap(retired_);
+  }
+  for (auto& rt : retired) rt->engine->Abort();
 }
 
 void MappingService::OpenForAgent(const HelloMessage& hello, const std::shared_ptr<AgentLink>& link,
@@ -190,7 +254,12 @@ void MappingService::OpenForAgent(const HelloMessage& hello, const std::shared_p
   if (hello.session != "new") {
     const auto rt = Running(hello.session);
     if (!rt) {
-      done({nullptr, 0, IngestError{"unknown_session", "session '" + hello.session.substr(0, 64) + "' is not active"}});
+      std::string why = " is not active";
+      {
+        std::lock_guard lock(mutex_);
+        if (const auto it = failures_.find(hello.session); it != failures_.end()) why = " has failed: " + it->second;
+      }
+      done({nullptr, 0, IngestError{"unknown_session", "session '" + hello.session.substr(0, 64) + "'" + why}});
       return;
     }
     if (hello.laser && hello.laser->beams != rt->laser.beams) {
@@ -280,6 +349,13 @@ MappingService::AdmitResult MappingService::Admit(const std::shared_ptr<SessionR
     result.admission = Admission::kOutOfOrder;
     return result;
   }
+  if (rt->last_pose) {
+    result.problem = PoseJumpProblem(*rt->last_pose, input);
+    if (!result.problem.empty()) {
+      result.admission = Admission::kImplausible;
+      return result;
+    }
+  }
   const std::int64_t seq = input.seq;
   auto shared = std::make_shared<InputRecord>(std::move(input));
   const SteadyTime received = SteadyNow();
@@ -296,6 +372,7 @@ MappingService::AdmitResult MappingService::Admit(const std::shared_ptr<SessionR
     return result;
   }
   rt->last_received = seq;
+  rt->last_pose = InputRecord{.seq = seq, .kind = shared->kind, .t = shared->t, .x = shared->x, .y = shared->y};
   result.expected_seq = seq + 1;
   return result;
 }
@@ -434,6 +511,7 @@ SessionRow MappingService::CloseSession(const std::string& id, const std::string
   std::shared_ptr<AgentLink> agent;
   {
     std::lock_guard lock(rt->mutex);
+    if (rt->closing && rt->engine->failed()) return GetSession(id);  // failed: nothing left to close
     if (rt->closing) throw ApiError::Conflict("session " + id + " is already closing");
     rt->closing = true;
     agent = rt->agent.lock();
@@ -445,6 +523,7 @@ SessionRow MappingService::CloseSession(const std::string& id, const std::string
   // runs jobs in order), then the engine drains, then its final checkpoint precedes the status.
   writer_.Execute([](SessionRepository&) {});
   rt->engine->Finish();
+  if (rt->engine->failed()) return GetSession(id);  // failed while draining: recorded as such
   writer_.Execute([&](SessionRepository& repo) {
     repo.SetStatus(id, status, UnixNow());
     repo.AddEvent(id, "closed", nlohmann::json{{"status", status}}.dump(), UnixNow());

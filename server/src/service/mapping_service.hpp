@@ -27,6 +27,8 @@
 
 namespace pslam::server {
 
+inline constexpr int kMaxRebuilds = 3;
+
 struct ServiceOptions {
   SessionSettings defaults;
   SettingsLimits limits;
@@ -56,7 +58,9 @@ class MappingService {
   // Where engines send live frames, and who hears that a session stopped running. Set before Recover.
   void SetLiveSinks(LiveSink live, EndSink ended);
   // At start-up: every session left active is rebuilt from its stored inputs and resumed (or,
-  // with resume_on_restart off, closed once rebuilt).
+  // with resume_on_restart off, closed once rebuilt). A session whose rebuild of the same stored
+  // inputs began at kMaxRebuilds start-ups in a row without completing (it took the server down)
+  // is quarantined: marked failed instead.
   void Recover();
   // Stops every engine after its current input with a checkpoint. The writer is stopped by its owner.
   void Shutdown();
@@ -72,9 +76,11 @@ class MappingService {
   void OpenForAgent(const HelloMessage& hello, const std::shared_ptr<AgentLink>& link,
                     std::function<void(AgentOpen)> done);
 
-  enum class Admission { kAccepted, kDuplicate, kOutOfOrder, kClosed, kNotOwner };
+  // kImplausible: the input's odometry jumped too far from the last one's (problem says how).
+  enum class Admission { kAccepted, kDuplicate, kOutOfOrder, kClosed, kNotOwner, kImplausible };
   struct AdmitResult {
     Admission admission = Admission::kAccepted;
+    std::string problem;
     std::int64_t expected_seq = 0;   // the next seq the session takes
     std::int64_t committed_seq = 0;  // everything up to here is acknowledged
   };
@@ -118,6 +124,8 @@ class MappingService {
   void OnProgress(const std::weak_ptr<SessionRuntime>& weak, std::int64_t processed);
   void OnCheckpoint(Checkpoint checkpoint);
   std::shared_ptr<SessionRuntime> TakeRunning(const std::string& id);
+  void OnEngineFailed(const std::string& id, const std::weak_ptr<SessionRuntime>& weak, const std::string& error);
+  void ReapRetired();  // under mutex_
 
   const ServiceOptions options_;
   StorageWriter& writer_;
@@ -129,6 +137,9 @@ class MappingService {
   std::map<std::string, std::shared_ptr<SessionRuntime>> running_;
   std::mt19937_64 id_rng_;
   std::vector<std::thread> closers_;  // closing sessions left active at a restart
+  // Failed sessions out of running_ whose engine thread may not have been joined yet.
+  std::vector<std::shared_ptr<SessionRuntime>> retired_;
+  std::map<std::string, std::string> failures_;  // why sessions failed since the start, by id
 };
 
 }  // namespace pslam::server

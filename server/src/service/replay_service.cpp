@@ -195,9 +195,13 @@ void ReplayService::FeedCarmenLog(Plan& plan) {
     input.y = scan->odometry.y;
     input.theta = scan->odometry.theta;
     input.ranges = std::move(scan->ranges);
-    if (mapping_.Admit(plan.runtime, nullptr, std::move(input)).admission != MappingService::Admission::kAccepted) {
-      return;
+    const auto admission = mapping_.Admit(plan.runtime, nullptr, std::move(input)).admission;
+    if (admission == MappingService::Admission::kImplausible) {  // an odometry glitch of the log: skip the scan
+      --plan.fed;
+      ++plan.skipped;
+      continue;
     }
+    if (admission != MappingService::Admission::kAccepted) return;
   }
 }
 

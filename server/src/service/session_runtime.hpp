@@ -11,9 +11,11 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 
 #include "engine/session_engine.hpp"
+#include "model/input.hpp"
 #include "model/session_settings.hpp"
 #include "service/agent_link.hpp"
 
@@ -29,6 +31,7 @@ struct SessionRuntime {
   std::mutex mutex;  // guards everything below
   std::int64_t last_received = 0;
   std::int64_t last_committed = 0;
+  std::optional<InputRecord> last_pose;  // seq, t and odometry of the last admitted input (no ranges)
   std::weak_ptr<AgentLink> agent;
   bool agent_waiting = false;   // the agent is paused until the engine catches up
   bool closing = false;

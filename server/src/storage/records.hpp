@@ -29,6 +29,9 @@ struct SessionRow {
   std::int64_t scans = 0;
   std::string stats_json = "{}";
   std::string metrics_json = "{}";
+  std::optional<std::string> failure;  // why a failed session failed
+  std::int64_t rebuilds = 0;           // start-ups in a row that began rebuilding and did not complete ...
+  std::int64_t rebuild_seq = 0;        // ... with this many stored inputs
 };
 
 struct SessionFilter {

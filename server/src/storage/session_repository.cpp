@@ -110,7 +110,7 @@ std::vector<PredictedCell> CellsFromBlob(const std::vector<std::uint8_t>& blob, 
 constexpr const char* kSessionColumns =
     "id, name, robot_id, source, replay_of, status, created_at, updated_at, closed_at, laser_json, settings_json, "
     "processed_seq, scans, stats_json, metrics_json, "
-    "COALESCE((SELECT MAX(seq) FROM inputs WHERE inputs.session_id = sessions.id), 0)";
+    "COALESCE((SELECT MAX(seq) FROM inputs WHERE inputs.session_id = sessions.id), 0), failure, rebuilds, rebuild_seq";
 
 SessionRow ReadSession(const Statement& s) {
   SessionRow row;
@@ -130,6 +130,9 @@ SessionRow ReadSession(const Statement& s) {
   row.stats_json = s.Text(13);
   row.metrics_json = s.Text(14);
   row.last_seq = s.Int64(15);
+  if (!s.IsNull(16)) row.failure = s.Text(16);
+  row.rebuilds = s.Int64(17);
+  row.rebuild_seq = s.Int64(18);
   return row;
 }
 
@@ -207,6 +210,15 @@ void SessionRepository::SetStatus(const std::string& id, const std::string& stat
          "closed_at = CASE WHEN ? = 'active' THEN NULL ELSE ? END WHERE id = ?")
       .BindAll(status, now, status, now, id)
       .Run();
+}
+
+void SessionRepository::SetFailed(const std::string& id, const std::string& reason, double now) {
+  SetStatus(id, "failed", now);
+  db_.Prepare("UPDATE sessions SET failure = ? WHERE id = ?").BindAll(reason, id).Run();
+}
+
+void SessionRepository::SetRebuilds(const std::string& id, std::int64_t rebuilds, std::int64_t rebuild_seq) {
+  db_.Prepare("UPDATE sessions SET rebuilds = ?, rebuild_seq = ? WHERE id = ?").BindAll(rebuilds, rebuild_seq, id).Run();
 }
 
 void SessionRepository::SetMetrics(const std::string& id, const std::string& metrics_json) {

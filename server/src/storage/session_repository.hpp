@@ -23,6 +23,9 @@ class SessionRepository {
   // Returns false if there is no such session.
   bool DeleteSession(const std::string& id);
   void SetStatus(const std::string& id, const std::string& status, double now);
+  // Status failed, with the reason shown to operators.
+  void SetFailed(const std::string& id, const std::string& reason, double now);
+  void SetRebuilds(const std::string& id, std::int64_t rebuilds, std::int64_t rebuild_seq = 0);
   void SetMetrics(const std::string& id, const std::string& metrics_json);
 
   // Raw inputs. InsertInput ignores a seq that is already stored (a resend): exactly once.

@@ -37,6 +37,7 @@ class ServerProcess {
   ServerProcess& operator=(const ServerProcess&) = delete;
 
   unsigned short port() const { return port_; }
+  pid_t pid() const { return pid_; }
 
   // kill -9: no shutdown, no flush, nothing.
   void Kill9() { Signal(SIGKILL); }

@@ -17,6 +17,7 @@ export interface SessionInfo {
   scans: number;
   metrics: Record<string, unknown>;
   replay_of: string | null;
+  failure?: string | null; // why a failed session failed
   running: boolean;
 }
 

@@ -103,6 +103,7 @@ export class SessionList {
             `${s.source}${s.replay_of ? ' of ' + shortId(s.replay_of) : ''} · ${predict} · ${formatNumber(s.settings?.particles)} particles · ${live ? '' : `${formatNumber(s.scans)} scans · `}${formatAge(s.created_at)}`,
           ),
           metrics ? h('div', { class: 'session-meta metrics', 'data-metrics': '' }, metrics) : null,
+          s.failure ? h('div', { class: 'session-meta failure', title: s.failure }, `failed: ${s.failure}`) : null,
           h(
             'div',
             { class: 'session-actions' },
