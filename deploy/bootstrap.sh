@@ -10,6 +10,7 @@ packages=(
   libboost-dev libboost-system-dev
   libopencv-dev libceres-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  clang lld libclang-rt-14-dev  # tests/fuzz: libFuzzer and the sanitizer runtimes come with clang
 )
 if [[ "${1:-}" == "--web" ]]; then
   packages+=(chromium)

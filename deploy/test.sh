@@ -5,5 +5,7 @@ cd "$(dirname "$0")/.."
 deploy/bootstrap.sh --web
 deploy/build.sh
 ctest --test-dir build --output-on-failure --timeout 600
+# A short libFuzzer run of every decoder of outside input (ASan + UBSan); a finding fails the test.
+tests/fuzz/run.sh --seconds 5
 # The web viewer: npm ci, build, unit tests, browser tests against build/bin/pslam-server.
 web/test.sh
