@@ -5,7 +5,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake ninja-build pkg-config curl ca-certificates
+  build-essential cmake ninja-build pkg-config curl ca-certificates python3
   libeigen3-dev nlohmann-json3-dev libsqlite3-dev sqlite3 zlib1g-dev libbz2-dev libpng-dev
   libboost-dev libboost-system-dev
   libopencv-dev libceres-dev

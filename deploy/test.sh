@@ -7,5 +7,7 @@ deploy/build.sh
 ctest --test-dir build --output-on-failure --timeout 600
 # A short libFuzzer run of every decoder of outside input (ASan + UBSan); a finding fails the test.
 tests/fuzz/run.sh --seconds 5
+# Three random kill -9 of server or agent while streaming: nothing lost, nothing stored twice.
+tests/bench/chaos.sh --kills 3
 # The web viewer: npm ci, build, unit tests, browser tests against build/bin/pslam-server.
 web/test.sh

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Crash chaos: pslam-agent streams to pslam-server (127.0.0.1, a temporary data dir) while one or
-# the other, at random, is killed with SIGKILL and restarted, N times. Then both are stopped and
-# tests/bench/chaos_count.py compares the agent's spool with the server's SQLite file: every
-# message the agent produced must be stored once or still wait in the spool; none lost, none
-# stored twice.
+# the other, at random, is killed with SIGKILL and restarted, N times. Once the server has caught
+# up, both are stopped and tests/bench/chaos_count.py compares the agent's spool with the server's
+# SQLite file: every message the agent produced must be stored once or still wait in the spool;
+# none lost, none stored twice.
 # Usage: tests/bench/chaos.sh [--kills N] [--source SOURCE] [--rate R] [--seed S]
 #   --kills N      number of kills (100)
 #   --source S     the agent's source (sim); e.g. log:../shared/data/intel/intel.clf
@@ -83,7 +83,13 @@ for (( i = 1; i <= kills; i++ )); do
     start_agent
   fi
 done
-sleep 3  # let the last restart reconnect and catch up a little
+# Let the server catch up (at most 120 s). The agent never stops producing, so caught up means a
+# backlog under 50 messages (2.5 s of input); what is left is counted as pending.
+for _ in $(seq 240); do
+  sleep 0.5
+  unacked=$(grep -o 'spool [0-9]* unacked' "$work/agent.log" | tail -n 1 | awk '{ print $2 }')
+  (( ${unacked:-0} < 50 )) && break
+done
 stop "$agent_pid" TERM
 agent_pid=''
 acked=$(max_acked)
