@@ -1,11 +1,22 @@
 #include "net/listener.hpp"
 
+#include <iostream>
+
 #include "net/http_session.hpp"
 
 namespace pslam::server {
+namespace {
+constexpr std::chrono::milliseconds kFirstBackoff{50}, kMaxBackoff{1000};
+
+// Out of descriptors or kernel memory: accepting again at once would fail again at once.
+bool IsExhaustion(const beast::error_code& ec) {
+  return ec == net::error::no_descriptors || ec == net::error::no_buffer_space || ec == net::error::no_memory ||
+         ec == beast::error_code(ENFILE, beast::system_category());
+}
+}  // namespace
 
 Listener::Listener(net::io_context& ioc, std::shared_ptr<ServerContext> context)
-    : ioc_(ioc), acceptor_(net::make_strand(ioc)), context_(std::move(context)) {}
+    : ioc_(ioc), acceptor_(net::make_strand(ioc)), backoff_timer_(acceptor_.get_executor()), context_(std::move(context)) {}
 
 Result<std::shared_ptr<Listener>> Listener::Create(net::io_context& ioc, const tcp::endpoint& endpoint,
                                                    std::shared_ptr<ServerContext> context) {
@@ -27,6 +38,7 @@ void Listener::Stop() {
   net::post(acceptor_.get_executor(), [self = shared_from_this()] {
     beast::error_code ec;
     self->acceptor_.close(ec);
+    self->backoff_timer_.cancel();
   });
 }
 
@@ -36,12 +48,33 @@ void Listener::Accept() {
 
 void Listener::OnAccept(beast::error_code ec, tcp::socket socket) {
   if (ec == net::error::operation_aborted || !acceptor_.is_open()) return;
+  if (IsExhaustion(ec)) return BackOff(ec);
   if (ec) {
-    Fail(ec, "accept");  // e.g. out of file descriptors: keep accepting, the condition may pass
+    Fail(ec, "accept");  // e.g. the peer reset before we accepted: nothing to wait for
   } else {
+    if (failures_ > 0) {
+      std::cerr << "accept: accepting again after " << failures_ << " failed attempt(s)\n";
+      failures_ = 0;
+      backoff_ = std::chrono::milliseconds(0);
+    }
     std::make_shared<HttpSession>(std::move(socket), context_)->Run();
   }
   Accept();
+}
+
+void Listener::BackOff(beast::error_code ec) {
+  // The condition passes when connections close; until then, wait (doubling up to a second)
+  // rather than spin, and say so once per episode rather than once per failure.
+  if (failures_++ == 0) {
+    std::cerr << "accept: " << ec.message() << "; pausing new connections (retry every " << kFirstBackoff.count()
+              << " ms up to " << kMaxBackoff.count() << " ms; raise LimitNOFILE / ulimit -n if this recurs)\n";
+  }
+  backoff_ = backoff_.count() == 0 ? kFirstBackoff : std::min(backoff_ * 2, kMaxBackoff);
+  backoff_timer_.expires_after(backoff_);
+  backoff_timer_.async_wait([self = shared_from_this()](beast::error_code wait_ec) {
+    if (wait_ec || !self->acceptor_.is_open()) return;
+    self->Accept();
+  });
 }
 
 }  // namespace pslam::server

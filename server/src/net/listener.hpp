@@ -1,5 +1,8 @@
 #pragma once
-// Accepts TCP connections and starts an HttpSession for each, on its own strand.
+// Accepts TCP connections and starts an HttpSession for each, on its own strand. Out of file
+// descriptors, it backs off (50 ms doubling to 1 s) instead of retrying in a busy loop.
+#include <chrono>
+#include <cstdint>
 #include <memory>
 
 #include "common/result.hpp"
@@ -23,9 +26,13 @@ class Listener : public std::enable_shared_from_this<Listener> {
   Listener(net::io_context& ioc, std::shared_ptr<ServerContext> context);
   void Accept();
   void OnAccept(beast::error_code ec, tcp::socket socket);
+  void BackOff(beast::error_code ec);
 
   net::io_context& ioc_;
   tcp::acceptor acceptor_;
+  net::steady_timer backoff_timer_;  // on the acceptor's strand
+  std::chrono::milliseconds backoff_{0};
+  std::uint64_t failures_ = 0;  // in the current episode
   std::shared_ptr<ServerContext> context_;
 };
 

@@ -20,8 +20,8 @@ class ServerProcess {
   ServerProcess(const std::filesystem::path& data_dir, const std::vector<std::string>& extra_args = {}) {
     std::vector<std::string> args = {"--checkpoint-seconds", "1"};
     args.insert(args.end(), extra_args.begin(), extra_args.end());
-    const auto log = data_dir.parent_path() / (data_dir.filename().string() + ".log");
-    const auto server = ::pslam::testing::LaunchServer(PSLAM_SERVER_BINARY, data_dir, args, log, std::chrono::seconds(20));
+    log_ = data_dir.parent_path() / (data_dir.filename().string() + ".log");
+    const auto server = ::pslam::testing::LaunchServer(PSLAM_SERVER_BINARY, data_dir, args, log_, std::chrono::seconds(20));
     pid_ = server.pid;
     stdout_ = server.stdout_fd;
     port_ = server.port;
@@ -38,6 +38,7 @@ class ServerProcess {
 
   unsigned short port() const { return port_; }
   pid_t pid() const { return pid_; }
+  const std::filesystem::path& log_path() const { return log_; }  // the server's stderr
 
   // kill -9: no shutdown, no flush, nothing.
   void Kill9() { Signal(SIGKILL); }
@@ -57,6 +58,7 @@ class ServerProcess {
   pid_t pid_ = -1;
   int stdout_ = -1;
   unsigned short port_ = 0;
+  std::filesystem::path log_;
 };
 
 }  // namespace pslam::server::testing
