@@ -24,10 +24,23 @@ std::string SessionIdParam(const ApiRequest& request) {
   return id;
 }
 
+namespace {
+// A failure this recent makes the server "degraded": long enough for a monitor polling every few
+// tens of seconds to see it, short enough that a passed condition clears by itself.
+constexpr std::chrono::seconds kHealthWindow{60};
+}  // namespace
+
 void AddSystemRoutes(Router& router, ApiContext& ctx) {
   router.Add("GET", "/api/health", Access::kNone, [&ctx](const ApiRequest&) {
     const WriterStats w = ctx.mapping.writer().stats();
-    nlohmann::json body = {{"status", "ok"},
+    nlohmann::json reasons = nlohmann::json::array();
+    if (auto failure = ctx.mapping.writer().failures().Within(kHealthWindow)) {
+      reasons.push_back("storage writes are failing: " + *failure);
+    }
+    if (auto failure = ctx.mapping.engine_failures().Within(kHealthWindow)) {
+      reasons.push_back("a session's engine failed: " + *failure);
+    }
+    nlohmann::json body = {{"status", reasons.empty() ? "ok" : "degraded"},
                            {"uptime_seconds", SecondsSince(ctx.started)},
                            {"running_sessions", ctx.mapping.running_sessions()},
                            {"viewers", ctx.viewer_count ? ctx.viewer_count() : 0},
@@ -35,6 +48,7 @@ void AddSystemRoutes(Router& router, ApiContext& ctx) {
                            {"storage", {{"commits", w.commits}, {"failed_jobs", w.failed_jobs},
                                         {"queued", ctx.mapping.writer().queued()},
                                         {"last_commit_ms", w.last_commit_ms}, {"max_commit_ms", w.max_commit_ms}}}};
+    if (!reasons.empty()) body["reasons"] = reasons;
     return JsonResponse(200, body.dump());
   });
   router.Add("GET", "/api/version", Access::kNone, [&ctx](const ApiRequest&) {

@@ -114,6 +114,7 @@ std::shared_ptr<SessionRuntime> MappingService::Launch(const SessionRow& row, co
 void MappingService::OnEngineFailed(const std::string& id, const std::weak_ptr<SessionRuntime>& weak,
                                     const std::string& error) {
   std::cerr << "session " << id << ": engine failed: " << error << "\n";
+  engine_failures_.Note("session " + id + ": " + error);
   const auto rt = weak.lock();
   std::shared_ptr<AgentLink> agent;
   if (rt) {

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "common/recent_failure.hpp"
 #include "engine/engine_output.hpp"
 #include "engine/session_engine.hpp"
 #include "service/agent_link.hpp"
@@ -114,6 +115,7 @@ class MappingService {
   const ServiceOptions& options() const { return options_; }
   StorageWriter& writer() { return writer_; }
   ReadPool& reads() { return reads_; }
+  const RecentFailure& engine_failures() const { return engine_failures_; }
 
  private:
   std::string NewSessionId();
@@ -132,6 +134,7 @@ class MappingService {
   ReadPool& reads_;
   LiveSink live_sink_;
   EndSink end_sink_;
+  RecentFailure engine_failures_;
 
   mutable std::mutex mutex_;
   std::map<std::string, std::shared_ptr<SessionRuntime>> running_;

@@ -127,7 +127,7 @@ void StorageWriter::Loop() {
     std::size_t failed = 0;
     for (std::size_t i = 0; i < batch.size(); ++i) {
       const std::string& error = commit_error.empty() ? errors[i] : commit_error;
-      if (!error.empty()) ++failed;
+      if (!error.empty() && failed++ == 0) failures_.Note(error);
       if (batch[i].done) batch[i].done(error.empty(), error);
     }
     std::lock_guard lock(mutex_);

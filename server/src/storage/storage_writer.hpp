@@ -12,6 +12,7 @@
 #include <string>
 #include <thread>
 
+#include "common/recent_failure.hpp"
 #include "common/result.hpp"
 #include "storage/session_repository.hpp"
 #include "storage/sqlite.hpp"
@@ -48,6 +49,7 @@ class StorageWriter {
   int schema_version() const { return schema_version_; }
   std::size_t queued() const;
   WriterStats stats() const;
+  const RecentFailure& failures() const { return failures_; }
 
  private:
   struct Pending {
@@ -65,6 +67,7 @@ class StorageWriter {
   std::deque<Pending> queue_;
   bool stopping_ = false;
   WriterStats stats_;
+  RecentFailure failures_;
   std::thread thread_;
 };
 
