@@ -15,6 +15,8 @@ const char* const kUsage =
     "                    [--particles N] [--seed N] [--predict on|off] [--filter-threads N]\n"
     "                    [--io-threads N] [--http-workers N] [--agent-token T]... [--viewer-token T]...\n"
     "                    [--max-inflight N] [--max-sessions N] [--max-message-bytes N] [--max-body-bytes N]\n"
+    "                    [--hello-timeout S] [--max-agent-sockets N] [--max-viewer-sockets N]\n"
+    "                    [--max-sockets-per-token N]\n"
     "                    [--checkpoint-seconds S] [--sqlite-sync full|normal] [--on-restart resume|close]\n"
     "                    [--session-memory-mb N]\n"
     "  Listens on 127.0.0.1:8080 by default; port 0 picks a free port. Beyond loopback, agent (write)\n"
@@ -86,7 +88,10 @@ void ApplyConfigFile(const std::filesystem::path& path, ServerOptions& o) {
     if (auto v = l.Integer("max_running_sessions")) o.max_running_sessions = static_cast<std::size_t>(*v);
     if (auto v = l.Integer("max_message_bytes")) o.net.max_message_bytes = static_cast<std::size_t>(*v);
     if (auto v = l.Integer("max_body_bytes")) o.net.max_body_bytes = static_cast<std::size_t>(*v);
-    if (auto v = l.Integer("max_websockets")) o.net.max_websockets = static_cast<std::size_t>(*v);
+    if (auto v = l.Integer("max_agent_websockets")) o.net.max_agent_websockets = static_cast<std::size_t>(*v);
+    if (auto v = l.Integer("max_viewer_websockets")) o.net.max_viewer_websockets = static_cast<std::size_t>(*v);
+    if (auto v = l.Integer("max_websockets_per_token")) o.net.max_websockets_per_token = static_cast<std::size_t>(*v);
+    if (auto v = l.Integer("hello_timeout_seconds")) o.net.hello_timeout = std::chrono::seconds(*v);
     if (auto v = l.Integer("http_timeout_seconds")) o.net.http_timeout = std::chrono::seconds(*v);
     l.RejectUnknown();
   }
@@ -171,6 +176,14 @@ Result<ParsedCommandLine> ParseCommandLine(const std::vector<std::string>& args,
         o.net.max_message_bytes = static_cast<std::size_t>(integer(1024, 1LL << 30));
       } else if (flag == "--max-body-bytes") {
         o.net.max_body_bytes = static_cast<std::size_t>(integer(1024, 1LL << 30));
+      } else if (flag == "--hello-timeout") {
+        o.net.hello_timeout = std::chrono::seconds(integer(1, 3600));
+      } else if (flag == "--max-agent-sockets") {
+        o.net.max_agent_websockets = static_cast<std::size_t>(integer(1, 100000));
+      } else if (flag == "--max-viewer-sockets") {
+        o.net.max_viewer_websockets = static_cast<std::size_t>(integer(1, 100000));
+      } else if (flag == "--max-sockets-per-token") {
+        o.net.max_websockets_per_token = static_cast<std::size_t>(integer(1, 100000));
       } else if (flag == "--checkpoint-seconds") {
         o.timing.checkpoint_period_seconds = static_cast<double>(integer(1, 3600));
       } else if (flag == "--sqlite-sync") {

@@ -57,7 +57,8 @@ void HttpSession::Upgrade(http::request<http::string_body> req) {
   const Access access = context_->AccessOf(req, &token_given);
   if (path == "/api/ingest") {
     // The ingest protocol reports a refused token inside the WebSocket (error, then close 1008).
-    std::make_shared<IngestSession>(stream_.release_socket(), context_, access, remote_)->Run(std::move(req));
+    std::make_shared<IngestSession>(stream_.release_socket(), context_, access, remote_, ServerContext::TokenOf(req))
+        ->Run(std::move(req));
     return;
   }
   constexpr std::string_view kPrefix = "/api/sessions/", kSuffix = "/live";
@@ -70,7 +71,7 @@ void HttpSession::Upgrade(http::request<http::string_body> req) {
       r.headers.emplace_back("WWW-Authenticate", "Bearer");
       return Respond(ToBeastResponse(std::move(r), req.version(), false, false));
     }
-    std::make_shared<LiveSession>(stream_.release_socket(), context_, id)->Run(std::move(req));
+    std::make_shared<LiveSession>(stream_.release_socket(), context_, id, ServerContext::TokenOf(req))->Run(std::move(req));
     return;
   }
   Respond(ToBeastResponse(ErrorResponse(404, "not_found", "no WebSocket endpoint " + path), req.version(), false, false));

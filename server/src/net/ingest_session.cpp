@@ -9,8 +9,13 @@ constexpr std::size_t kMaxQueuedErrors = 32;
 }  // namespace
 
 IngestSession::IngestSession(tcp::socket&& socket, std::shared_ptr<ServerContext> context, Access access,
-                             std::string remote)
-    : ws_(std::move(socket)), context_(std::move(context)), access_(access), remote_(std::move(remote)) {}
+                             std::string remote, std::string token)
+    : ws_(std::move(socket)),
+      context_(std::move(context)),
+      access_(access),
+      remote_(std::move(remote)),
+      token_(std::move(token)),
+      hello_deadline_(ws_.get_executor()) {}
 
 IngestSession::~IngestSession() {
   if (runtime_) context_->mapping.Detach(runtime_, this);
@@ -35,12 +40,40 @@ void IngestSession::OnAccept(beast::error_code ec) {
     CloseAfterSending(websocket::close_code::policy_error, "unauthorized");
     return;
   }
-  if (!context_->Track(shared_from_this())) {
-    Send(ErrorMessage("overloaded", "too many connections"));
-    CloseAfterSending(websocket::close_code::try_again_later, "too many connections");
+  if (const auto refusal = context_->Track(shared_from_this(), SocketKind::kAgent, token_)) {
+    Send(ErrorMessage("overloaded", *refusal));
+    CloseAfterSending(websocket::close_code::try_again_later, *refusal);
     return;
   }
+  // A socket that never says hello would hold its slot until the idle timeout (minutes).
+  hello_deadline_.expires_after(context_->limits.hello_timeout);
+  hello_deadline_.async_wait(beast::bind_front_handler(&IngestSession::OnHelloDeadline, shared_from_this()));
   ReadMore();
+}
+
+void IngestSession::OnHelloDeadline(beast::error_code ec) {
+  if (ec || greeted_ || close_ || ended_) return;
+  if (opening_) {
+    hello_late_ = true;  // decided when the hello's answer comes
+    return;
+  }
+  CloseUngreeted("no hello within " + std::to_string(context_->limits.hello_timeout.count()) + " s");
+}
+
+void IngestSession::CloseSilent() {
+  net::post(ws_.get_executor(), [self = shared_from_this()] {
+    if (!self->greeted_) self->CloseUngreeted("the agent connection quota is full and this socket said no hello");
+  });
+}
+
+void IngestSession::CloseUngreeted(const std::string& why) {
+  std::cerr << "ingest " << remote_ << ": " << why << ", closed\n";
+  // The peer may never read: do not wait long for its half of the close handshake.
+  websocket::stream_base::timeout timeouts = websocket::stream_base::timeout::suggested(beast::role_type::server);
+  timeouts.handshake_timeout = std::chrono::seconds(2);
+  ws_.set_option(timeouts);
+  Send(ErrorMessage("hello_timeout", why));
+  CloseAfterSending(websocket::close_code::protocol_error, "no hello");
 }
 
 void IngestSession::ReadMore() {
@@ -104,6 +137,7 @@ void IngestSession::OnOpened(MappingService::AgentOpen opened) {
   opening_ = false;
   if (opened.error) {
     Send(ErrorMessage(opened.error->code, opened.error->message));
+    if (hello_late_) return CloseUngreeted("no valid hello within " + std::to_string(context_->limits.hello_timeout.count()) + " s");
     // A bad hello or an unknown session may be followed by a better hello; anything else ends it.
     if (opened.error->code != "bad_message" && opened.error->code != "unknown_session") {
       CloseAfterSending(websocket::close_code::try_again_later, opened.error->code);
@@ -112,6 +146,8 @@ void IngestSession::OnOpened(MappingService::AgentOpen opened) {
     return ReadMore();
   }
   runtime_ = opened.runtime;
+  greeted_ = true;
+  hello_deadline_.cancel();
   laser_ = runtime_->laser;
   ack_sent_ = ack_wanted_ = opened.last_acked_seq;
   Send(WelcomeMessage(runtime_->id, opened.last_acked_seq));
@@ -246,6 +282,7 @@ void IngestSession::OnEnded() {
   if (ended_) return;
   ended_ = true;
   paused_self_.reset();
+  hello_deadline_.cancel();
   --context_->agents;
   if (runtime_) {
     context_->mapping.Detach(runtime_, this);

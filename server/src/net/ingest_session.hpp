@@ -7,6 +7,7 @@
 //
 // Outbound messages are few and bounded: acks coalesce into the latest, targets replace each
 // other, errors beyond a small backlog are dropped.
+#include <atomic>
 #include <cstdint>
 #include <deque>
 #include <memory>
@@ -22,7 +23,8 @@ namespace pslam::server {
 
 class IngestSession : public AgentLink, public Closable, public std::enable_shared_from_this<IngestSession> {
  public:
-  IngestSession(tcp::socket&& socket, std::shared_ptr<ServerContext> context, Access access, std::string remote);
+  IngestSession(tcp::socket&& socket, std::shared_ptr<ServerContext> context, Access access, std::string remote,
+                std::string token);
   ~IngestSession() override;
   void Run(http::request<http::string_body> upgrade);
 
@@ -33,6 +35,8 @@ class IngestSession : public AgentLink, public Closable, public std::enable_shar
   void Disconnect(const std::string& code, const std::string& reason) override;
   // Closable (any thread).
   void CloseForShutdown() override;
+  bool Silent() const override { return !greeted_; }
+  void CloseSilent() override;
 
  private:
   void OnAccept(beast::error_code ec);
@@ -47,12 +51,18 @@ class IngestSession : public AgentLink, public Closable, public std::enable_shar
   void Write();
   void OnWrite(beast::error_code ec, std::size_t bytes);
   void OnEnded();
+  void OnHelloDeadline(beast::error_code ec);
+  void CloseUngreeted(const std::string& why);
 
   websocket::stream<beast::tcp_stream> ws_;
   std::shared_ptr<ServerContext> context_;
   const Access access_;
   const std::string remote_;
+  const std::string token_;  // for the per-token quota
   beast::flat_buffer buffer_;
+  net::steady_timer hello_deadline_;
+  std::atomic<bool> greeted_{false};  // welcomed into a session
+  bool hello_late_ = false;           // the deadline passed while a hello was being handled
 
   std::shared_ptr<SessionRuntime> runtime_;
   std::optional<LaserGeometry> laser_;

@@ -10,8 +10,9 @@ constexpr std::size_t kMaxPendingTrajectory = 20000;
 constexpr std::size_t kMaxViewerMessage = 4096;  // viewers send nothing we act on
 }  // namespace
 
-LiveSession::LiveSession(tcp::socket&& socket, std::shared_ptr<ServerContext> context, std::string session_id)
-    : ws_(std::move(socket)), context_(std::move(context)), session_id_(std::move(session_id)) {}
+LiveSession::LiveSession(tcp::socket&& socket, std::shared_ptr<ServerContext> context, std::string session_id,
+                         std::string token)
+    : ws_(std::move(socket)), context_(std::move(context)), session_id_(std::move(session_id)), token_(std::move(token)) {}
 
 LiveSession::~LiveSession() { context_->hub.Leave(session_id_, this); }
 
@@ -23,8 +24,8 @@ void LiveSession::Run(http::request<http::string_body> upgrade) {
 
 void LiveSession::OnAccept(beast::error_code ec) {
   if (ec) return Fail(ec, "live accept");
-  if (!context_->Track(shared_from_this())) {
-    return Close(websocket::close_code::try_again_later, "too many connections");
+  if (const auto refusal = context_->Track(shared_from_this(), SocketKind::kViewer, token_)) {
+    return Close(websocket::close_code::try_again_later, *refusal);
   }
   Subscribe();
   Read();

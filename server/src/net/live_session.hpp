@@ -21,7 +21,7 @@ namespace pslam::server {
 
 class LiveSession : public LiveViewer, public Closable, public std::enable_shared_from_this<LiveSession> {
  public:
-  LiveSession(tcp::socket&& socket, std::shared_ptr<ServerContext> context, std::string session_id);
+  LiveSession(tcp::socket&& socket, std::shared_ptr<ServerContext> context, std::string session_id, std::string token);
   ~LiveSession() override;
   void Run(http::request<http::string_body> upgrade);
 
@@ -44,6 +44,7 @@ class LiveSession : public LiveViewer, public Closable, public std::enable_share
   websocket::stream<beast::tcp_stream> ws_;
   std::shared_ptr<ServerContext> context_;
   const std::string session_id_;
+  const std::string token_;  // for the per-token quota
   beast::flat_buffer buffer_;
   bool subscribed_ = false;
 

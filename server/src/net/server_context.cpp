@@ -1,5 +1,6 @@
 #include "net/server_context.hpp"
 
+#include <algorithm>
 #include <iostream>
 
 #include "api/query.hpp"
@@ -7,6 +8,12 @@
 namespace pslam::server {
 
 Access ServerContext::AccessOf(const http::request<http::string_body>& req, bool* token_given) const {
+  const std::string token = TokenOf(req);
+  *token_given = !token.empty();
+  return auth.Check(token);
+}
+
+std::string ServerContext::TokenOf(const http::request<http::string_body>& req) {
   std::string token;
   const auto auth_header = req.find(http::field::authorization);
   if (auth_header != req.end()) {
@@ -21,8 +28,7 @@ Access ServerContext::AccessOf(const http::request<http::string_body>& req, bool
     const auto it = target->query.find("token");
     if (it != target->query.end()) token = it->second;
   }
-  *token_given = !token.empty();
-  return auth.Check(token);
+  return token;
 }
 
 void ServerContext::LogRefusal(const std::string& method, const std::string& path, const std::string& remote,
@@ -77,21 +83,48 @@ http::response<http::string_body> ServerContext::HandleHttp(const http::request<
                          req.keep_alive(), head);
 }
 
-bool ServerContext::Track(const std::shared_ptr<Closable>& socket) {
-  std::lock_guard lock(mutex_);
-  sockets_.erase(std::remove_if(sockets_.begin(), sockets_.end(), [](const auto& w) { return w.expired(); }),
-                 sockets_.end());
-  if (sockets_.size() >= limits.max_websockets) return false;
-  sockets_.push_back(socket);
-  return true;
+std::optional<std::string> ServerContext::Track(const std::shared_ptr<Closable>& socket, SocketKind kind,
+                                                const std::string& token) {
+  std::vector<std::shared_ptr<Closable>> evicted;
+  std::optional<std::string> refusal;
+  {
+    std::lock_guard lock(mutex_);
+    sockets_.erase(std::remove_if(sockets_.begin(), sockets_.end(), [](const auto& t) { return t.socket.expired(); }),
+                   sockets_.end());
+    // Room in the quota of 'in_scope' sockets, made by evicting its oldest silent one if need be.
+    auto make_room = [&](auto in_scope, std::size_t limit) {
+      if (static_cast<std::size_t>(std::count_if(sockets_.begin(), sockets_.end(), in_scope)) < limit) return true;
+      for (auto it = sockets_.begin(); it != sockets_.end(); ++it) {
+        auto s = it->socket.lock();
+        if (s && in_scope(*it) && s->Silent()) {
+          evicted.push_back(std::move(s));
+          sockets_.erase(it);
+          return true;
+        }
+      }
+      return false;
+    };
+    const bool agent = kind == SocketKind::kAgent;
+    if (!make_room([&](const Tracked& t) { return t.kind == kind; },
+                   agent ? limits.max_agent_websockets : limits.max_viewer_websockets)) {
+      refusal = agent ? "too many agent connections" : "too many viewer connections";
+    } else if (!token.empty() &&
+               !make_room([&](const Tracked& t) { return t.token == token; }, limits.max_websockets_per_token)) {
+      refusal = "too many connections with this token";
+    } else {
+      sockets_.push_back({socket, kind, token});
+    }
+  }
+  for (const auto& s : evicted) s->CloseSilent();
+  return refusal;
 }
 
 void ServerContext::CloseAll() {
   std::vector<std::shared_ptr<Closable>> open;
   {
     std::lock_guard lock(mutex_);
-    for (const auto& w : sockets_) {
-      if (auto s = w.lock()) open.push_back(std::move(s));
+    for (const auto& t : sockets_) {
+      if (auto s = t.socket.lock()) open.push_back(std::move(s));
     }
     sockets_.clear();
   }
@@ -101,7 +134,7 @@ void ServerContext::CloseAll() {
 std::size_t ServerContext::websockets() {
   std::lock_guard lock(mutex_);
   std::size_t n = 0;
-  for (const auto& w : sockets_) n += w.expired() ? 0 : 1;
+  for (const auto& t : sockets_) n += t.socket.expired() ? 0 : 1;
   return n;
 }
 

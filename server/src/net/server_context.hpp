@@ -6,6 +6,7 @@
 #include <chrono>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,13 +23,23 @@ struct NetLimits {
   std::size_t max_body_bytes = 1 << 20;        // HTTP request bodies
   std::size_t max_message_bytes = 1 << 20;     // WebSocket messages from agents and viewers
   std::chrono::seconds http_timeout{30};       // reading a request, writing a response
-  std::size_t max_websockets = 256;
+  std::chrono::seconds hello_timeout{10};      // an agent socket must say hello within this
+  // Open WebSockets, by kind and per token, so that neither viewers nor one token (the read-only
+  // viewer token, say) can take every slot.
+  std::size_t max_agent_websockets = 32;
+  std::size_t max_viewer_websockets = 256;
+  std::size_t max_websockets_per_token = 128;  // only for sockets that gave a token
 };
+
+enum class SocketKind { kAgent, kViewer };
 
 class Closable {
  public:
   virtual ~Closable() = default;
   virtual void CloseForShutdown() = 0;  // posts a close with 1001 (going away)
+  // An agent socket that has not said hello yet: the first to give way when its quota is full.
+  virtual bool Silent() const { return false; }
+  virtual void CloseSilent() {}  // posts the close of a socket that gave way
 };
 
 class ServerContext {
@@ -40,12 +51,15 @@ class ServerContext {
   // The access a request's token grants: "Authorization: Bearer T", or "?token=T" for clients that
   // cannot set headers (browsers opening a WebSocket).
   Access AccessOf(const http::request<http::string_body>& req, bool* token_given) const;
+  static std::string TokenOf(const http::request<http::string_body>& req);
   // An HTTP request that is not a WebSocket upgrade: the API under /api/, static files elsewhere.
   http::response<http::string_body> HandleHttp(const http::request<http::string_body>& req, const std::string& remote);
   // Logs a refused request (stderr and the events table).
   void LogRefusal(const std::string& method, const std::string& path, const std::string& remote, int status);
 
-  bool Track(const std::shared_ptr<Closable>& socket);  // false above max_websockets
+  // Counts an open WebSocket against its quotas. When a quota is full, the oldest silent agent
+  // socket in it gives way; if there is none, returns why the new socket is refused.
+  std::optional<std::string> Track(const std::shared_ptr<Closable>& socket, SocketKind kind, const std::string& token);
   void CloseAll();
   std::size_t websockets();
 
@@ -59,8 +73,13 @@ class ServerContext {
   std::atomic<std::size_t> agents{0};
 
  private:
+  struct Tracked {
+    std::weak_ptr<Closable> socket;
+    SocketKind kind;
+    std::string token;
+  };
   std::mutex mutex_;
-  std::vector<std::weak_ptr<Closable>> sockets_;
+  std::vector<Tracked> sockets_;  // oldest first
 };
 
 http::response<http::string_body> ToBeastResponse(ApiResponse response, unsigned version, bool keep_alive, bool head);
