@@ -3,6 +3,8 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
+#include <sys/wait.h>
 #include <limits>
 
 #include "server/support/agent_script.hpp"
@@ -160,6 +162,52 @@ TEST(BadInputTest, TokensAreRequiredWhenConfigured) {
   const auto events = Get(port, "/api/events", {{"Authorization", "Bearer viewer-secret-1"}}).Json()["events"];
   ASSERT_FALSE(events.empty());
   EXPECT_EQ(events[0]["kind"], "refused");
+}
+
+// The status of a raw request (headers and body exactly as given) on a fresh connection.
+int RawStatus(unsigned short port, const std::string& request) {
+  asio::io_context ioc;
+  beast::tcp_stream stream(ioc);
+  stream.connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), port));
+  asio::write(stream, asio::buffer(request));
+  stream.expires_after(std::chrono::seconds(10));
+  beast::flat_buffer buffer;
+  http::response<http::string_body> res;
+  http::read(stream, buffer, res);
+  return static_cast<int>(res.result_int());
+}
+
+TEST(BadInputTest, TransferCodingsOtherThanAFinalChunkedAreRefused) {
+  TempDir dir;
+  ServerProcess server(dir.path() / "data");
+  const auto request = [](const std::string& coding) {
+    return "GET /api/health HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: " + coding + "\r\n\r\n0\r\n\r\n";
+  };
+  // RFC 9112 6.3: without a final "chunked" the body length is unknown: 400, not "no body".
+  EXPECT_EQ(RawStatus(server.port(), request("xchunked")), 400);
+  EXPECT_EQ(RawStatus(server.port(), request("chunked, gzip")), 400);
+  EXPECT_EQ(RawStatus(server.port(), request("gzip, chunked")), 501);  // a coding we do not decode
+  EXPECT_EQ(RawStatus(server.port(), request("chunked")), 200);
+  EXPECT_EQ(Get(server.port(), "/api/health").status, 200);
+}
+
+TEST(BadInputTest, RefusesToListenBeyondLoopbackWithThePlaceholderTokens) {
+  TempDir dir;
+  const auto log = dir.path() / "server.log";
+  // 'timeout': a server that starts anyway must not outlive the test.
+  const std::string command = "timeout 10 " + std::string(PSLAM_SERVER_BINARY) + " --listen 0.0.0.0:0 --data " +
+                              (dir.path() / "data").string() +
+                              " --agent-token change-me-agent-token-0001 --viewer-token viewer-secret-1 > /dev/null 2> " +
+                              log.string();
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  std::ifstream in(log);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("placeholder token 'change-me-agent-token-0001'"), std::string::npos) << text;
+  // On loopback they are harmless (tests, a first try on one machine).
+  ServerProcess local(dir.path() / "local", {"--agent-token", "change-me-agent-token-0001"});
+  EXPECT_EQ(Get(local.port(), "/api/health").status, 200);
 }
 
 TEST(BadInputTest, RefusesToListenBeyondLoopbackWithoutTokens) {

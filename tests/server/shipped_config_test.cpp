@@ -20,8 +20,15 @@ TEST(ShippedConfigTest, ServerConfigParsesAndListensSafely) {
   EXPECT_FALSE(IsLoopback(o.host));
   EXPECT_FALSE(o.agent_tokens.empty());
   EXPECT_FALSE(o.viewer_tokens.empty());
-  EXPECT_EQ(ValidateOptions(o), std::nullopt);
   EXPECT_TRUE(o.session_defaults.predict);
+  // Its tokens are placeholders everyone can read: refused until the operator replaces them.
+  const auto problem = ValidateOptions(o);
+  ASSERT_TRUE(problem.has_value());
+  EXPECT_NE(problem->find("placeholder"), std::string::npos) << *problem;
+  ServerOptions replaced = o;
+  replaced.agent_tokens = {"a-real-agent-secret"};
+  replaced.viewer_tokens = {"a-real-viewer-secret"};
+  EXPECT_EQ(ValidateOptions(replaced), std::nullopt);
 }
 
 TEST(ShippedConfigTest, AgentEnvironmentUsesAServerAgentToken) {

@@ -217,8 +217,23 @@ std::optional<std::string> ValidateOptions(const ServerOptions& o) {
   if (!IsLoopback(o.host) && o.agent_tokens.empty()) {
     return "listening on " + o.host + " (beyond loopback) needs at least one --agent-token (and --viewer-token for viewers)";
   }
+  if (!IsLoopback(o.host)) {
+    // The shipped config's tokens are public: anyone who read it could drive the robot.
+    for (const auto* list : {&o.agent_tokens, &o.viewer_tokens}) {
+      for (const std::string& token : *list) {
+        if (token.rfind(kPlaceholderTokenPrefix, 0) == 0) {
+          return "refusing to listen on " + o.host + " (beyond loopback) with the placeholder token '" + token +
+                 "': replace every " + kPlaceholderTokenPrefix + "... token in the config with a secret of your own";
+        }
+      }
+    }
+  }
   if (o.io_threads < 1 || o.http_workers < 1) return "io_threads and http_workers must be at least 1";
   if (o.max_inflight_inputs < 1) return "max_inflight_inputs must be at least 1";
+  if (o.net.hello_timeout.count() < 1 || o.net.max_agent_websockets < 1 || o.net.max_viewer_websockets < 1 ||
+      o.net.max_websockets_per_token < 1) {
+    return "hello_timeout_seconds and the WebSocket quotas must be at least 1";
+  }
   if (o.timing.live_period_seconds < 0.01 || o.timing.checkpoint_period_seconds < 0.1) {
     return "timing periods are too short (live >= 0.01 s, checkpoint >= 0.1 s)";
   }

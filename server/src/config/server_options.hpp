@@ -43,7 +43,10 @@ struct ParsedCommandLine {
 // Parses argv (config file first, then flags in order). 'program_dir' is where the binary lives,
 // used to find the default web directory.
 Result<ParsedCommandLine> ParseCommandLine(const std::vector<std::string>& args, const std::filesystem::path& program_dir);
-// Checks that the options make a safe server: tokens when listening beyond loopback.
+// Tokens in the shipped config start with this; they must be replaced before listening beyond loopback.
+inline constexpr const char* kPlaceholderTokenPrefix = "change-me";
+// Checks that the options make a safe server: tokens, not the shipped placeholders, when listening
+// beyond loopback.
 std::optional<std::string> ValidateOptions(const ServerOptions& options);
 bool IsLoopback(const std::string& host);
 

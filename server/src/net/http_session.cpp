@@ -5,6 +5,26 @@
 #include "net/live_session.hpp"
 
 namespace pslam::server {
+namespace {
+
+// RFC 9112 6.3: a request whose final transfer coding is not "chunked" has no determinable length
+// (400, then close); 6.1: chunked after a coding we do not decode (gzip, ...) is 501. Beast reads
+// such a request as one without a body, so the check is ours. Returns the refusal, if any.
+std::optional<ApiResponse> CheckTransferCoding(const http::request<http::string_body>& req) {
+  const auto fields = req.equal_range(http::field::transfer_encoding);
+  if (fields.first == fields.second) return std::nullopt;
+  std::vector<std::string> codings;  // several fields are one list, in order
+  for (auto field = fields.first; field != fields.second; ++field) {
+    for (const auto& coding : http::token_list(field->value())) codings.emplace_back(coding);
+  }
+  if (codings.empty() || !beast::iequals(codings.back(), "chunked")) {
+    return ErrorResponse(400, "bad_request", "the final transfer coding must be chunked (RFC 9112 6.3)");
+  }
+  if (codings.size() > 1) return ErrorResponse(501, "not_implemented", "only the chunked transfer coding is supported");
+  return std::nullopt;
+}
+
+}  // namespace
 
 HttpSession::HttpSession(tcp::socket&& socket, std::shared_ptr<ServerContext> context)
     : stream_(std::move(socket)), context_(std::move(context)) {
@@ -39,6 +59,9 @@ void HttpSession::OnRead(beast::error_code ec, std::size_t) {
     // A malformed request: say so, then close (the stream cannot be resynchronised).
     return Respond(ToBeastResponse(ErrorResponse(400, "bad_request", "malformed HTTP request: " + ec.message()), 11,
                                    false, false));
+  }
+  if (auto refusal = CheckTransferCoding(parser_->get())) {
+    return Respond(ToBeastResponse(std::move(*refusal), parser_->get().version(), false, false));
   }
   http::request<http::string_body> req = parser_->release();
   if (websocket::is_upgrade(req)) return Upgrade(std::move(req));
