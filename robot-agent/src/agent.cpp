@@ -9,6 +9,8 @@
 #include "common/log.hpp"
 #include "drive/path_frames.hpp"
 #include "link/messages.hpp"
+#include "link/session_closer.hpp"
+#include "link/session_state.hpp"
 
 namespace pslam::agent {
 namespace {
@@ -16,6 +18,7 @@ namespace {
 constexpr double kPollSeconds = 0.05;
 constexpr double kDrivePeriodSeconds = 0.1;        // the controller runs at the SIP rate
 constexpr double kSpoolFullReportPeriod = 10.0;
+constexpr double kCloseTimeoutSeconds = 30.0;  // the server drains the filter before it answers
 
 ScanMessage ToMessage(const LaserScan& scan) {
   ScanMessage m;
@@ -28,6 +31,8 @@ ScanMessage ToMessage(const LaserScan& scan) {
   }
   return m;
 }
+
+std::filesystem::path ReplayFile(const AgentOptions& o) { return std::filesystem::path(o.spool_dir) / "replay.json"; }
 
 }  // namespace
 
@@ -50,7 +55,46 @@ Agent::Agent(AgentOptions options, std::unique_ptr<ScanSource> source)
   hello.session_name = options_.session_name;
   hello.settings_json = options_.session_settings_json;
   hello.laser = source_->laser();
+  link_options_ = link;
   link_ = std::make_unique<ServerLink>(link, *spool_, hello);
+}
+
+void Agent::ContinueReplay() {
+  const std::string name = source_->replay_name();
+  if (name.empty()) return;
+  // What this replay already put in the spool is sent (or was acknowledged) in the session being
+  // resumed; the replay continues after it. Without a session to resume and with nothing left to
+  // send, it is a fresh run from the top.
+  const auto position = LoadReplayPosition(ReplayFile(options_));
+  const bool resuming = position && position->log == name && position->first_seq <= spool_->next_seq() &&
+                        (LoadSessionState(link_options_.session_file) || !spool_->empty_of_unacked());
+  if (!resuming) {
+    SaveReplayPosition(ReplayFile(options_), {name, spool_->next_seq()});
+    return;
+  }
+  const std::uint64_t spooled = spool_->next_seq() - position->first_seq;
+  const std::uint64_t skipped = source_->Skip(spooled);
+  PSLAM_LOG(kInfo) << "continuing the replay of " << name << " after the " << skipped
+                   << " message(s) the previous run spooled";
+  if (skipped < spooled) {
+    PSLAM_LOG(kWarning) << "the log holds fewer messages (" << skipped << ") than the previous run spooled (" << spooled
+                        << "): is it the same file?";
+  }
+}
+
+void Agent::CloseFinishedSession() {
+  const std::string session = link_->status().session_id;
+  if (session.empty()) return;
+  if (const auto error = CloseServerSession(link_options_, session, kCloseTimeoutSeconds)) {
+    PSLAM_LOG(kWarning) << "cannot close session " << session << " (" << *error
+                        << "); it stays open on the server until closed there or by a rerun";
+    return;
+  }
+  PSLAM_LOG(kInfo) << "closed session " << session << " on the server";
+  // Done: the next run is a new replay in a new session.
+  ClearSessionState(link_options_.session_file);
+  std::error_code ignored;
+  std::filesystem::remove(ReplayFile(options_), ignored);
 }
 
 Agent::~Agent() {
@@ -142,14 +186,16 @@ int Agent::Run(const std::atomic<bool>& stop) {
                    << options_.server_port << "; spool " << options_.spool_dir;
   const SpoolRecovery& r = spool_->recovery();
   if (r.records > 0) PSLAM_LOG(kInfo) << "spool: " << r.records << " record(s) kept from the previous run";
+  ContinueReplay();
   link_->Start();
   last_status_ = AgentClock::Now();
   bool replay_done_reported = false;
+  bool replay_acknowledged = false;
   int exit_code = kExitOk;
   while (!stop) {
     if (const auto refusal = link_->refusal()) {
       PSLAM_LOG(kError) << "giving up: " << *refusal;
-      exit_code = kExitRefused;
+      exit_code = link_->refusal_kind() == RefusalKind::kToken ? kExitRefused : kExitSessionRefused;
       break;
     }
     auto event = source_->Next(kPollSeconds);
@@ -169,6 +215,7 @@ int Agent::Run(const std::atomic<bool>& stop) {
     } else if (source_->finished()) {
       if (spool_->empty_of_unacked()) {
         PSLAM_LOG(kInfo) << "replay finished and fully acknowledged";
+        replay_acknowledged = true;
         break;
       }
       if (!replay_done_reported) {
@@ -187,6 +234,8 @@ int Agent::Run(const std::atomic<bool>& stop) {
   source_->Shutdown();
   spool_->Sync();
   link_->Stop();
+  // After the link: closing the session ends the link too, which would otherwise open a new one.
+  if (replay_acknowledged) CloseFinishedSession();
   LogStatus(AgentClock::Now());
   return exit_code;
 }

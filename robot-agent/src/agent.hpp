@@ -23,8 +23,9 @@ namespace pslam::agent {
 
 // Exit codes of Run().
 inline constexpr int kExitOk = 0;
-inline constexpr int kExitRefused = 3;   // the server refused the token
 inline constexpr int kExitFailure = 1;
+inline constexpr int kExitRefused = 3;         // the server refused the token
+inline constexpr int kExitSessionRefused = 4;  // the server refused the hello, or the session failed
 
 struct AgentStats {
   std::uint64_t scans = 0;
@@ -40,8 +41,8 @@ class Agent {
   Agent(AgentOptions options, std::unique_ptr<ScanSource> source);
   ~Agent();
 
-  // Runs until 'stop' is set, the server refuses the token, or a finite source is finished and
-  // everything it produced is acknowledged. Returns an exit code.
+  // Runs until 'stop' is set, the server refuses the agent for good, or a finite source is finished
+  // and everything it produced is acknowledged (then the session is closed). Returns an exit code.
   int Run(const std::atomic<bool>& stop);
 
   AgentStats stats() const { return stats_; }
@@ -52,6 +53,8 @@ class Agent {
   void Enqueue(const OdomMessage& odom);
   void Enqueue(const ScanMessage& scan);
   void Append(const std::vector<std::uint8_t>& payload, const std::atomic<bool>& stop);
+  void ContinueReplay();
+  void CloseFinishedSession();
   void DriveTick(double now);
   void LogStatus(double now);
 
@@ -59,6 +62,7 @@ class Agent {
   std::unique_ptr<ScanSource> source_;
   std::unique_ptr<Spool> spool_;
   std::unique_ptr<ServerLink> link_;
+  ServerLinkOptions link_options_;
   PathFollower follower_;
   bool path_active_ = false;
   SafetyMonitor safety_;

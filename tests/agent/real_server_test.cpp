@@ -16,6 +16,7 @@
 #include "agent.hpp"
 #include "server/support/server_process.hpp"
 #include "sources/log_source.hpp"
+#include "sources/sim_source.hpp"
 #include "temp_dir.hpp"
 #include "testing/shared_data.hpp"
 #include "wait_for.hpp"
@@ -116,6 +117,82 @@ TEST(RealServerTest, RefusedTokenIsReportedClearly) {
   ASSERT_TRUE(WaitFor([&] { return link.refusal().has_value(); }, 10.0));
   EXPECT_NE(link.refusal()->find("token"), std::string::npos) << *link.refusal();
   link.Stop();
+}
+
+AgentOptions SimAgentOptions(unsigned short port, const std::filesystem::path& spool) {
+  AgentOptions o;
+  o.server_host = "127.0.0.1";
+  o.server_port = std::to_string(port);
+  o.token = "agent-secret-1";
+  o.spool_dir = spool.string();
+  o.source = SourceKind::kSim;
+  o.rate = 1.0;
+  o.drive = false;
+  return o;
+}
+
+TEST(RealServerTest, RefusedHelloEndsTheAgentWithItsOwnExitCode) {
+  TempDir dir;
+  ServerProcess server(dir.path() / "data", {"--agent-token", "agent-secret-1"});
+  AgentOptions o = SimAgentOptions(server.port(), dir.path() / "spool");
+  o.session_settings_json = R"({"particles": -5})";  // refused by the server, every time
+  Agent agent(o, std::make_unique<SimSource>(SimSourceOptions{}));
+  std::atomic<bool> stop{false};
+  int exit_code = -1;
+  std::thread runner([&] { exit_code = agent.Run(stop); });
+  const bool ended = WaitFor([&] { return exit_code != -1; }, 20.0);
+  if (!ended) stop = true;
+  runner.join();
+  ASSERT_TRUE(ended) << "the agent kept retrying a hello the server refuses";
+  EXPECT_EQ(exit_code, kExitSessionRefused);
+  EXPECT_NE(agent.link_status().last_error.find("refused the hello"), std::string::npos) << agent.link_status().last_error;
+}
+
+TEST(RealServerTest, SessionLimitIsReportedPlainlyAndRetried) {
+  TempDir dir;
+  ServerProcess server(dir.path() / "data", {"--agent-token", "agent-secret-1", "--viewer-token", "viewer-secret-1",
+                                             "--max-sessions", "1", "--particles", "4"});
+  // Another agent holds the only session slot.
+  AgentOptions other = SimAgentOptions(server.port(), dir.path() / "spool-other");
+  Agent holder(other, std::make_unique<SimSource>(SimSourceOptions{}));
+  std::atomic<bool> stop_holder{false};
+  std::thread holder_runner([&] { holder.Run(stop_holder); });
+  ASSERT_TRUE(WaitFor([&] { return holder.link_status().connections > 0; }, 20.0));
+
+  ::testing::internal::CaptureStderr();
+  Agent agent(SimAgentOptions(server.port(), dir.path() / "spool"), std::make_unique<SimSource>(SimSourceOptions{}));
+  std::atomic<bool> stop{false};
+  int exit_code = -1;
+  std::thread runner([&] { exit_code = agent.Run(stop); });
+  std::this_thread::sleep_for(std::chrono::seconds(3));
+  const bool retrying = exit_code == -1;
+  // Once the slot is free, the retry gets in.
+  const std::string holder_session = holder.link_status().session_id;
+  stop_holder = true;
+  holder_runner.join();
+  boost::asio::io_context ioc;
+  {
+    namespace beast = boost::beast;
+    namespace http = beast::http;
+    beast::tcp_stream stream(ioc);
+    stream.connect(boost::asio::ip::tcp::endpoint(boost::asio::ip::make_address("127.0.0.1"), server.port()));
+    http::request<http::empty_body> req{http::verb::post, "/api/sessions/" + holder_session + "/close", 11};
+    req.set(http::field::host, "127.0.0.1");
+    req.set(http::field::authorization, "Bearer agent-secret-1");
+    http::write(stream, req);
+    beast::flat_buffer buffer;
+    http::response<http::string_body> res;
+    http::read(stream, buffer, res);
+    ASSERT_EQ(res.result_int(), 200u) << res.body();
+  }
+  const bool connected = WaitFor([&] { return agent.link_status().connections > 0; }, 20.0);
+  stop = true;
+  runner.join();
+  const std::string log = ::testing::internal::GetCapturedStderr();
+  EXPECT_TRUE(retrying) << "the agent gave up on a transient refusal";
+  EXPECT_TRUE(connected);
+  EXPECT_NE(log.find("server refused: the server runs its maximum of sessions (overloaded)"), std::string::npos) << log;
+  EXPECT_EQ(log.find("cannot reach"), std::string::npos) << log;
 }
 
 }  // namespace

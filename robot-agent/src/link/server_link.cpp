@@ -43,6 +43,7 @@ struct Connection {
   std::vector<std::uint8_t> out_binary;
   bool writing = false;
   bool welcomed = false;
+  bool refusal_reported = false;  // the server said why it turns us away; the close needs no more words
 };
 
 }  // namespace
@@ -109,6 +110,11 @@ class ServerLink::Impl {
     return refusal_;
   }
 
+  std::optional<RefusalKind> refusal_kind() const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return refusal_kind_;
+  }
+
  private:
   using ConnectionPtr = std::shared_ptr<Connection>;
 
@@ -154,8 +160,9 @@ class ServerLink::Impl {
       if (ec == websocket::error::upgrade_declined) {
         const unsigned status = conn->handshake_response.result_int();
         if (status == 401 || status == 403) {
-          return Refuse(conn, "the server at " + options_.host + ":" + options_.port + " refused the agent token (HTTP " +
-                                  std::to_string(status) + "); check --token / PSLAM_AGENT_TOKEN");
+          return Refuse(conn, RefusalKind::kToken,
+                        "the server at " + options_.host + ":" + options_.port + " refused the agent token (HTTP " +
+                            std::to_string(status) + "); check --token / PSLAM_AGENT_TOKEN");
         }
         return Fail(conn, "websocket upgrade declined with HTTP " + std::to_string(status), ec);
       }
@@ -182,11 +189,15 @@ class ServerLink::Impl {
       if (ec == websocket::error::closed) {
         const auto reason = conn->ws.reason();
         if (reason.code == websocket::close_code::policy_error) {  // 1008: unauthorized
-          return Refuse(conn, "the server closed the link with 1008 (policy: " + std::string(reason.reason.c_str()) +
-                                  "); the agent token was refused; check --token / PSLAM_AGENT_TOKEN");
+          return Refuse(conn, RefusalKind::kToken,
+                        "the server closed the link with 1008 (policy: " + std::string(reason.reason.c_str()) +
+                            "); the agent token was refused; check --token / PSLAM_AGENT_TOKEN");
         }
-        return Fail(conn, "server closed the link (" + std::to_string(reason.code) + " " +
-                              std::string(reason.reason.c_str()) + ")", ec);
+        const std::string why = std::to_string(reason.code) + " " + std::string(reason.reason.c_str());
+        if (reason.code == websocket::close_code::try_again_later && !conn->refusal_reported) {
+          ReportRefusal("server refused: " + std::string(reason.reason.c_str()) + " (1013 try again later)");
+        }
+        return Fail(conn, "server closed the link (" + why + ")", ec);
       }
       if (ec) return Fail(conn, "read", ec);
       last_contact_ = AgentClock::Now();
@@ -240,6 +251,7 @@ class ServerLink::Impl {
     next_send_ = spool_.acked_seq() + 1;
     paused_ = false;
     conn->welcomed = true;
+    last_refusal_.clear();
     backoff_s_ = options_.backoff_initial_s;
     const std::uint64_t backlog = spool_.next_seq() - next_send_;
     PSLAM_LOG(kInfo) << "streaming to " << options_.host << ":" << options_.port << " in session " << session_id_
@@ -253,7 +265,23 @@ class ServerLink::Impl {
       ++status_.server_errors;
     }
     if (error.code == "unauthorized") {
-      return Refuse(conn, "the server refused the agent token (" + error.message + "); check --token / PSLAM_AGENT_TOKEN");
+      return Refuse(conn, RefusalKind::kToken,
+                    "the server refused the agent token (" + error.message + "); check --token / PSLAM_AGENT_TOKEN");
+    }
+    if (error.code == "bad_message" && !conn->welcomed) {
+      // The answer to our hello: the same hello would be refused again.
+      return Refuse(conn, RefusalKind::kSession,
+                    "server refused the hello: " + error.message + " (bad_message); check the agent's options");
+    }
+    if (error.code == "engine_failed") {
+      return Refuse(conn, RefusalKind::kSession,
+                    "server session " + session_id_ + " failed: " + error.message +
+                        " (engine_failed); its events say why; not resending into it");
+    }
+    if (!conn->welcomed && (error.code == "overloaded" || error.code == "storage_error" || error.code == "hello_timeout")) {
+      // Turned away for now: the server closes the link next and we retry.
+      conn->refusal_reported = true;
+      return ReportRefusal("server refused: " + error.message + " (" + error.code + "); retrying");
     }
     if (error.code == "unknown_session") {
       PSLAM_LOG(kWarning) << "server does not know session " << session_id_ << " (" << error.message
@@ -353,13 +381,24 @@ class ServerLink::Impl {
     backoff_s_ = std::clamp(backoff_s_ * 2.0, options_.backoff_initial_s, options_.backoff_max_s);
   }
 
-  void Refuse(const ConnectionPtr& conn, const std::string& message) {
+  void Refuse(const ConnectionPtr& conn, RefusalKind kind, const std::string& message) {
     Drop(conn);
     PSLAM_LOG(kError) << message;
     const std::lock_guard<std::mutex> lock(mutex_);
     status_.state = LinkState::kRefused;
     status_.last_error = message;
     refusal_ = message;
+    refusal_kind_ = kind;
+  }
+
+  // A transient refusal, at normal verbosity; repeats of the same words only with --verbose.
+  void ReportRefusal(const std::string& message) {
+    if (message == last_refusal_) {
+      PSLAM_LOG(kDebug) << message;
+    } else {
+      PSLAM_LOG(kWarning) << message;
+      last_refusal_ = message;
+    }
   }
 
   ServerLinkOptions options_;
@@ -380,12 +419,14 @@ class ServerLink::Impl {
   double backoff_s_ = 0.0;
   bool paused_ = false;
   bool stopping_ = false;
+  std::string last_refusal_;
 
   std::atomic<double> last_contact_{0.0};
   mutable std::mutex mutex_;  // guards status_, target_, refusal_
   LinkStatus status_;
   std::optional<TargetMessage> target_;
   std::optional<std::string> refusal_;
+  std::optional<RefusalKind> refusal_kind_;
 };
 
 ServerLink::ServerLink(ServerLinkOptions options, Spool& spool, HelloMessage hello)
@@ -397,5 +438,6 @@ void ServerLink::Notify() { impl_->Notify(); }
 LinkStatus ServerLink::status() const { return impl_->status(); }
 std::optional<TargetMessage> ServerLink::TakeTarget() { return impl_->TakeTarget(); }
 std::optional<std::string> ServerLink::refusal() const { return impl_->refusal(); }
+std::optional<RefusalKind> ServerLink::refusal_kind() const { return impl_->refusal_kind(); }
 
 }  // namespace pslam::agent

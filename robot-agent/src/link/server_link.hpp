@@ -3,7 +3,8 @@
 // thread and only ever reads the spool: hello -> welcome -> stream every unacknowledged record in
 // seq order -> drop records as cumulative acks arrive. Network loss is normal: on any failure it
 // reconnects with capped exponential back-off, resumes its session and resends from the server's
-// last_acked_seq. A refused token is the one failure it does not retry.
+// last_acked_seq. Refusals are reported plainly: a transient one (the server is full) is retried,
+// a permanent one (token refused, hello refused, the session failed) stops the link.
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -33,6 +34,8 @@ struct ServerLinkOptions {
 };
 
 enum class LinkState { kDisconnected, kConnecting, kStreaming, kRefused };
+// Why the link gave up: the token, or the session (a refused hello, a failed session).
+enum class RefusalKind { kToken, kSession };
 
 struct LinkStatus {
   LinkState state = LinkState::kDisconnected;
@@ -65,8 +68,9 @@ class ServerLink {
   LinkStatus status() const;
   // The latest `target` from the server, once.
   std::optional<TargetMessage> TakeTarget();
-  // Set when the server refused the agent's token; the message says what to do.
+  // Set when the server refused the agent for good; the message says what to do.
   std::optional<std::string> refusal() const;
+  std::optional<RefusalKind> refusal_kind() const;
 
  private:
   class Impl;

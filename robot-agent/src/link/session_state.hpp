@@ -23,4 +23,14 @@ std::optional<SessionState> LoadSessionState(const std::filesystem::path& file);
 void SaveSessionState(const std::filesystem::path& file, const SessionState& state);
 void ClearSessionState(const std::filesystem::path& file);
 
+// Where a log replay began in the spool (spool seq of its first event), kept beside the spool so
+// that a restarted agent continues the log after what it already spooled instead of sending it
+// again from the top: a replay emits the same events in the same order every time.
+struct ReplayPosition {
+  std::string log;
+  std::uint64_t first_seq = 0;
+};
+std::optional<ReplayPosition> LoadReplayPosition(const std::filesystem::path& file);
+void SaveReplayPosition(const std::filesystem::path& file, const ReplayPosition& position);  // atomic; throws
+
 }  // namespace pslam::agent

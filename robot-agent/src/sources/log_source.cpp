@@ -83,12 +83,30 @@ std::optional<SourceEvent> LogSource::Next(double timeout_s) {
     }
     if (wait > 0) std::this_thread::sleep_for(std::chrono::duration<double>(wait));
   }
-  SourceEvent out = std::move(event);
+  return Take();
+}
+
+std::optional<SourceEvent> LogSource::Take() {
+  if (lookahead_.empty()) {
+    auto event = ReadEvent();
+    if (!event) {
+      finished_ = true;
+      return std::nullopt;
+    }
+    lookahead_.push_back(std::move(*event));
+  }
+  SourceEvent out = std::move(lookahead_.front());
   lookahead_.pop_front();
   if (std::holds_alternative<LaserScan>(out) && options_.max_scans > 0 && ++scans_ >= options_.max_scans) {
     finished_ = true;  // this scan is the last one delivered
   }
   return out;
+}
+
+std::uint64_t LogSource::Skip(std::uint64_t events) {
+  std::uint64_t skipped = 0;
+  while (skipped < events && !finished_ && Take()) ++skipped;
+  return skipped;
 }
 
 std::string LogSource::StatsLine() const {

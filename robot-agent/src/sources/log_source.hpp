@@ -30,12 +30,15 @@ class LogSource : public ScanSource {
   std::optional<SourceEvent> Next(double timeout_s) override;
   bool finished() const override { return finished_; }
   bool can_wait() const override { return true; }
+  std::string replay_name() const override { return options_.path; }
+  std::uint64_t Skip(std::uint64_t events) override;
   bool can_drive() const override { return false; }
   void Drive(const VelocityCommand&) override {}
   std::string StatsLine() const override;
 
  private:
   std::optional<SourceEvent> ReadEvent();  // next event from the log, odometry resolved
+  std::optional<SourceEvent> Take();       // the next event, counted against max_scans; no pacing
 
   LogSourceOptions options_;
   CarmenReader reader_;

@@ -2,6 +2,7 @@
 // Where scans and odometry come from: the simulator, a recorded log, or the real robot. The agent
 // loop is the same for all three; only a source knows how to wait for data and whether it can
 // drive.
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <variant>
@@ -28,6 +29,11 @@ class ScanSource {
   virtual bool finished() const { return false; }
   // A live sensor cannot pause; a replay can wait for room in a full spool instead of losing data.
   virtual bool can_wait() const { return false; }
+  // A replay names what it replays (its events are the same every run); live sources return "".
+  virtual std::string replay_name() const { return {}; }
+  // Skips the first 'events' events without pacing (a replay continued after a restart); returns
+  // how many there were.
+  virtual std::uint64_t Skip(std::uint64_t /*events*/) { return 0; }
 
   virtual bool can_drive() const = 0;
   // Executes a velocity command (no-op for sources that cannot drive).
