@@ -155,6 +155,9 @@ void IngestSession::OnOpened(MappingService::AgentOpen opened) {
 }
 
 void IngestSession::HandleInput(InputRecord input) {
+  // No session: none opened yet, or the service let go of it (a storage error) while this input
+  // was already being read. Either way nothing may be admitted.
+  if (!runtime_) return Send(ErrorMessage("bad_message", "no open session: send hello first"));
   const std::int64_t seq = input.seq;
   const auto result = context_->mapping.Admit(runtime_, this, std::move(input));
   switch (result.admission) {
