@@ -13,7 +13,7 @@ namespace {
 
 HypothesisFilter ParseHypothesisFilter(const ApiRequest& req) {
   HypothesisFilter f;
-  f.status = QueryString(req.query, "status");
+  f.status = QueryChoice(req.query, "status", {"pending", "confirmed", "refuted", "expired"});
   f.min_psi = QueryNumber(req.query, "min_psi");
   f.t_from = QueryNumber(req.query, "from");
   f.t_to = QueryNumber(req.query, "to");
@@ -36,8 +36,7 @@ HypothesisFilter ParseHypothesisFilter(const ApiRequest& req) {
 }
 
 std::int64_t HypothesisIdParam(const ApiRequest& req) {
-  std::map<std::string, std::string> value = {{"hypothesis id", req.Param("hid")}};
-  return *QueryInteger(value, "hypothesis id", 0, INT64_MAX);
+  return PathInteger(req.Param("hid"), "hypothesis id", 0, INT64_MAX);
 }
 
 HypothesisRecord HypothesisOrThrow(ApiContext& ctx, const std::string& id, std::int64_t hid) {

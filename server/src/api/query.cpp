@@ -73,18 +73,28 @@ std::optional<double> QueryNumber(const std::map<std::string, std::string>& quer
   return v;
 }
 
+namespace {
+
+long long Integer(const std::string& s, const std::string& what, long long min, long long max) {
+  long long v = 0;
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (s.empty() || ec != std::errc() || ptr != s.data() + s.size() || v < min || v > max) {
+    throw ApiError::BadRequest(what + " must be an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]");
+  }
+  return v;
+}
+
+}  // namespace
+
 std::optional<long long> QueryInteger(const std::map<std::string, std::string>& query, const std::string& name,
                                       long long min, long long max) {
   const auto it = query.find(name);
   if (it == query.end()) return std::nullopt;
-  const std::string& s = it->second;
-  long long v = 0;
-  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (s.empty() || ec != std::errc() || ptr != s.data() + s.size() || v < min || v > max) {
-    throw ApiError::BadRequest("query parameter '" + name + "' must be an integer in [" + std::to_string(min) + ", " +
-                               std::to_string(max) + "]");
-  }
-  return v;
+  return Integer(it->second, "query parameter '" + name + "'", min, max);
+}
+
+long long PathInteger(const std::string& value, const std::string& name, long long min, long long max) {
+  return Integer(value, "path parameter '" + name + "'", min, max);
 }
 
 std::optional<std::string> QueryString(const std::map<std::string, std::string>& query, const std::string& name) {
@@ -92,6 +102,18 @@ std::optional<std::string> QueryString(const std::map<std::string, std::string>&
   if (it == query.end()) return std::nullopt;
   if (it->second.size() > 256) throw ApiError::BadRequest("query parameter '" + name + "' is too long");
   return it->second;
+}
+
+std::optional<std::string> QueryChoice(const std::map<std::string, std::string>& query, const std::string& name,
+                                       const std::vector<std::string>& choices) {
+  const auto value = QueryString(query, name);
+  if (!value) return value;
+  for (const std::string& c : choices) {
+    if (*value == c) return value;
+  }
+  std::string list;
+  for (std::size_t i = 0; i < choices.size(); ++i) list += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + choices[i];
+  throw ApiError::BadRequest("query parameter '" + name + "' must be " + list);
 }
 
 }  // namespace pslam::server

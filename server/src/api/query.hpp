@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace pslam::server {
 
@@ -23,5 +24,11 @@ std::optional<double> QueryNumber(const std::map<std::string, std::string>& quer
 std::optional<long long> QueryInteger(const std::map<std::string, std::string>& query, const std::string& name,
                                       long long min, long long max);
 std::optional<std::string> QueryString(const std::map<std::string, std::string>& query, const std::string& name);
+// A value that must be one of 'choices' (a filter on an enumerated field: a typo is a 400, not an
+// empty list).
+std::optional<std::string> QueryChoice(const std::map<std::string, std::string>& query, const std::string& name,
+                                       const std::vector<std::string>& choices);
+// A path segment that must be an integer in [min, max]; throws ApiError(400) naming it as a path parameter.
+long long PathInteger(const std::string& value, const std::string& name, long long min, long long max);
 
 }  // namespace pslam::server

@@ -17,10 +17,7 @@ nlohmann::json SessionWithLiveState(ApiContext& ctx, const SessionRow& row) {
 
 SessionFilter ParseSessionFilter(const ApiRequest& req) {
   SessionFilter f;
-  f.status = QueryString(req.query, "status");
-  if (f.status && *f.status != "active" && *f.status != "closed" && *f.status != "failed") {
-    throw ApiError::BadRequest("status must be active, closed or failed");
-  }
+  f.status = QueryChoice(req.query, "status", {"active", "closed", "failed"});
   f.source = QueryString(req.query, "source");
   f.robot_id = QueryString(req.query, "robot_id");
   f.name_contains = QueryString(req.query, "name");

@@ -17,6 +17,7 @@ namespace pslam::server {
 namespace {
 constexpr int kInputChunk = 256;
 constexpr double kMaxSpeed = 1000.0;
+constexpr const char* kNoReplayDir = "this server has no replay directory (--replay-dir); it replays stored sessions only";
 }  // namespace
 
 struct ReplayService::Plan {
@@ -48,6 +49,15 @@ void ReplayService::Shutdown() {
     feeders.swap(feeders_);
   }
   for (auto& t : feeders) t.join();
+}
+
+std::vector<ReplayFile> ReplayService::Files() const {
+  if (!replay_dir_) throw ApiError::Forbidden(kNoReplayDir);
+  try {
+    return ListReplayFiles(*replay_dir_);
+  } catch (const std::filesystem::filesystem_error&) {
+    throw ApiError::Unavailable("the replay directory is not accessible");
+  }
 }
 
 std::filesystem::path ReplayService::ResolveInside(const std::filesystem::path& root, const std::string& relative) {
@@ -88,7 +98,7 @@ SessionRow ReplayService::Start(const nlohmann::json& body) {
     throw ApiError::BadRequest("replay needs exactly one of 'session' (a stored session) and 'log' (a CARMEN log)");
   }
   if ((log || relations || reference_map) && !replay_dir_) {
-    throw ApiError::Forbidden("this server has no replay directory (--replay-dir); it replays stored sessions only");
+    throw ApiError::Forbidden(kNoReplayDir);
   }
   if (relations) plan->relations = ResolveInside(*replay_dir_, *relations);
   if (reference_map) plan->reference_map = ResolveInside(*replay_dir_, *reference_map);

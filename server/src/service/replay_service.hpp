@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "service/mapping_service.hpp"
+#include "service/replay_files.hpp"
 
 namespace pslam::server {
 
@@ -29,6 +30,9 @@ class ReplayService {
   // Validates the request (schema/openapi.yaml, ReplayRequest), creates the session and starts
   // feeding it on a thread of its own. Throws ApiError on bad requests.
   SessionRow Start(const nlohmann::json& body);
+  // The replay directory's logs, relations files and reference maps; throws ApiError 403 without a
+  // replay directory, 503 when it cannot be read.
+  std::vector<ReplayFile> Files() const;
   // Stops the feeders; their sessions stay active and are closed after the next start.
   void Shutdown();
 

@@ -128,6 +128,13 @@ export async function fetchBlob(path: string): Promise<Blob> {
 
 const sid = (id: string) => encodeURIComponent(id);
 
+// A file of the server's replay directory (GET /api/replays/files), named as a replay request names it.
+export interface ReplayFile {
+  name: string;
+  bytes: number;
+  kind: 'log' | 'relations' | 'reference_map';
+}
+
 export const api = {
   health: () => request<{ status: string; running_sessions: number; viewers: number; agents: number }>('GET', '/api/health'),
   version: () => request<{ server: string; version: string; live_protocol: number }>('GET', '/api/version'),
@@ -140,5 +147,6 @@ export const api = {
   hypotheses: (id: string, limit: number, offset: number) =>
     request<{ hypotheses: Record<string, unknown>[]; total: number }>('GET', `/api/sessions/${sid(id)}/hypotheses?limit=${limit}&offset=${offset}`),
   startReplay: (body: ReplayRequest) => request<SessionInfo>('POST', '/api/replays', body),
+  replayFiles: () => request<{ files: ReplayFile[] }>('GET', '/api/replays/files'),
   closeSession: (id: string) => request<SessionInfo>('POST', `/api/sessions/${sid(id)}/close`),
 };

@@ -1,7 +1,7 @@
 // Starts a replay on the server (POST /api/replays): a stored session or a CARMEN log from the
 // server's replay directory, at a chosen speed and with chosen filter settings. Optionally starts
 // the same data twice, without and with prediction (plain RBPF vs P-SLAM), to compare side by side.
-import { api, ApiError, type ReplayRequest, type SessionInfo } from '../net/api';
+import { api, ApiError, type ReplayFile, type ReplayRequest, type SessionInfo } from '../net/api';
 import { h } from './dom';
 
 export const kSpeeds: [string, number][] = [
@@ -44,14 +44,36 @@ export function replayRequest(f: ReplayForm, predict = f.predict): ReplayRequest
   return body;
 }
 
+// "intel/intel.clf (14.2 MB)"
+export function fileLabel(f: ReplayFile): string {
+  const mb = f.bytes / (1024 * 1024);
+  const size = mb >= 1 ? `${mb.toFixed(1)} MB` : `${Math.max(1, Math.round(f.bytes / 1024))} KB`;
+  return `${f.name} (${size})`;
+}
+
+// Options for one kind of file; optional kinds start with "none".
+export function fileOptions(files: ReplayFile[], kind: ReplayFile['kind'], none: string | null): HTMLOptionElement[] {
+  const options = files.filter((f) => f.kind === kind).map((f) => h('option', { value: f.name }, fileLabel(f)));
+  return none === null ? options : [h('option', { value: '' }, none), ...options];
+}
+
 export class ReplayDialog {
   readonly element: HTMLDialogElement;
   private readonly sessionSelect: HTMLSelectElement;
+  private readonly logSelect: HTMLSelectElement;
+  private readonly relationsSelect: HTMLSelectElement;
+  private readonly referenceSelect: HTMLSelectElement;
+  private readonly filesNote: HTMLElement;
   private readonly error: HTMLElement;
   private readonly form: HTMLFormElement;
 
   constructor(private readonly onStarted: (sessions: SessionInfo[]) => void) {
     this.sessionSelect = h('select', { name: 'session' });
+    // The server's replay directory, listed when the dialog opens: names exactly as a request gives them.
+    this.logSelect = h('select', { name: 'log', 'aria-label': 'log file' });
+    this.relationsSelect = h('select', { name: 'relations', 'aria-label': 'relations file for RPE' });
+    this.referenceSelect = h('select', { name: 'reference_map', 'aria-label': 'reference map for KL' });
+    this.filesNote = h('small', { class: 'files-note' });
     this.error = h('div', { class: 'form-error', role: 'alert' });
     const field = (label: string, input: HTMLElement, hint = '') =>
       h('label', { class: 'field' }, h('span', {}, label), input, hint ? h('small', {}, hint) : null);
@@ -66,9 +88,10 @@ export class ReplayDialog {
         h('label', { class: 'radio' }, h('input', { type: 'radio', name: 'source', value: 'session', checked: true }), 'Stored session'),
         this.sessionSelect,
         h('label', { class: 'radio' }, h('input', { type: 'radio', name: 'source', value: 'log' }), 'Log on the server'),
-        h('input', { name: 'log', placeholder: 'intel/intel.clf (relative to --replay-dir)' }),
-        h('input', { name: 'relations', placeholder: 'relations file for RPE (optional)' }),
-        h('input', { name: 'reference_map', placeholder: 'reference map YAML for KL (optional)' }),
+        this.logSelect,
+        this.relationsSelect,
+        this.referenceSelect,
+        this.filesNote,
       ),
       h(
         'fieldset',
@@ -101,7 +124,32 @@ export class ReplayDialog {
     );
     if (stored.length === 0) (this.form.elements.namedItem('source') as RadioNodeList).value = 'log';
     else (this.form.elements.namedItem('source') as RadioNodeList).value = 'session';
+    void this.listFiles();
     this.element.showModal();
+  }
+
+  private async listFiles(): Promise<void> {
+    this.filesNote.textContent = 'Listing the server’s replay directory…';
+    let files: ReplayFile[] = [];
+    try {
+      files = (await api.replayFiles()).files;
+      const logs = files.filter((f) => f.kind === 'log').length;
+      this.filesNote.textContent = logs ? '' : 'The server’s replay directory holds no logs (.clf, .log).';
+    } catch (err) {
+      // 403: the server was started without --replay-dir.
+      this.filesNote.textContent = (err as ApiError).message;
+    }
+    this.logSelect.replaceChildren(...fileOptions(files, 'log', null));
+    this.relationsSelect.replaceChildren(...fileOptions(files, 'relations', 'no relations file (no RPE)'));
+    this.referenceSelect.replaceChildren(...fileOptions(files, 'reference_map', 'no reference map (no KL)'));
+    // The relations file beside the chosen log, when there is one (intel/intel.clf -> intel/intel.relations).
+    const pickRelations = () => {
+      const stem = this.logSelect.value.replace(/\.[^./]*$/, '');
+      const match = files.find((f) => f.kind === 'relations' && f.name === `${stem}.relations`);
+      this.relationsSelect.value = match ? match.name : '';
+    };
+    this.logSelect.onchange = pickRelations;
+    pickRelations();
   }
 
   read(): ReplayForm {
@@ -128,7 +176,7 @@ export class ReplayDialog {
     const f = this.read();
     const compare = (this.form.elements.namedItem('compare') as HTMLInputElement).checked;
     if (f.source === 'session' && !f.session) return this.fail('Choose a stored session.');
-    if (f.source === 'log' && !f.log) return this.fail('Give the path of a log in the server’s replay directory.');
+    if (f.source === 'log' && !f.log) return this.fail('Choose a log from the server’s replay directory.');
     this.error.textContent = 'Starting…';
     try {
       const started: SessionInfo[] = [];
