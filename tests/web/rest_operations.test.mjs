@@ -1,6 +1,6 @@
 // REST behaviours an operator meets around the main job, against the real pslam-server: the replay
-// directory's file list, status filters that reject a misspelt status, and path parameters named as
-// such.
+// directory's file list, status filters that reject a misspelt status, path parameters named as
+// such, and the exploration choice for sessions that explore no more.
 import assert from 'node:assert/strict';
 import { existsSync, mkdirSync, symlinkSync, writeFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
@@ -85,5 +85,20 @@ describe('REST around the main job', { skip }, () => {
     assert.equal(overlay.status, 400);
     assert.match(overlay.text, /path parameter 'hypothesis id'/);
     assert.doesNotMatch(overlay.text, /query parameter/);
+  });
+
+  it('takes the exploration choice for a running session only, and records it', async () => {
+    const id = await newSession(server.url);
+    const path = `${server.url}/api/sessions/${id}/exploration`;
+    assert.equal((await call(path, 'POST', { verify_predictions: 'yes' })).status, 400);
+    assert.equal((await call(path, 'POST', {})).status, 400);
+    assert.equal((await call(path, 'POST', { verify_predictions: false, other: 1 })).status, 400);
+    // A session created over REST has no robot to drive (source api).
+    const noRobot = await call(path, 'POST', { verify_predictions: false });
+    assert.equal(noRobot.status, 409, noRobot.text);
+    assert.match(noRobot.text, /no robot/);
+    assert.equal((await call(`${server.url}/api/sessions/s-0000000000000000/exploration`, 'POST', { verify_predictions: true })).status, 404);
+    assert.equal((await call(`${server.url}/api/sessions/${id}/close`, 'POST')).status, 200);
+    assert.equal((await call(path, 'POST', { verify_predictions: true })).status, 409);
   });
 });

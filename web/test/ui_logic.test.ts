@@ -7,6 +7,7 @@ import { snapshotMessage } from './fixtures/live';
 import { replayRequest, type ReplayForm } from '../src/ui/replay_dialog';
 import { parseRoute, routeFor } from '../src/ui/route';
 import { trackingWarning } from '../src/ui/tracking';
+import { areaText, explorationNotice } from '../src/ui/exploration_banner';
 
 describe('routes', () => {
   it('round-trip one and two sessions', () => {
@@ -14,6 +15,28 @@ describe('routes', () => {
     expect(parseRoute(routeFor(['a b', 'c/d']))).toEqual(['a b', 'c/d']);
     expect(parseRoute('#/')).toEqual([]);
     expect(parseRoute('#/compare/only-one')).toEqual([]);
+  });
+});
+
+describe('exploration banner', () => {
+  it('says nothing while exploring or for a server that does not report exploration', () => {
+    expect(explorationNotice({})).toBeNull();
+    expect(explorationNotice({ exploration: 'exploring', mapped_m2: 10 })).toBeNull();
+  });
+
+  it('names the end with the mapped and predicted shares', () => {
+    const n = explorationNotice({ exploration: 'complete', mapped_m2: 450, predicted_m2: 50 });
+    expect(n?.level).toBe('done');
+    expect(n?.text).toBe('Exploration complete · 450 m² mapped (90 %), 50 m² predicted (10 %)');
+    expect(areaText({})).toBe('');
+  });
+
+  it('warns when the robot waits or is blocked, with the reason', () => {
+    const w = explorationNotice({ exploration: 'waiting_for_verification', exploration_reason: '3 frontiers left', mapped_m2: 1 });
+    expect(w?.level).toBe('warn');
+    expect(w?.text).toContain('3 frontiers left');
+    expect(explorationNotice({ exploration: 'blocked' })?.level).toBe('warn');
+    expect(explorationNotice({ exploration: 'verifying' })?.level).toBe('info');
   });
 });
 

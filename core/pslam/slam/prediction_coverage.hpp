@@ -22,6 +22,8 @@ class PredictionCoverage {
 
   bool Covered(const Eigen::Vector2i& cell) const { return covering_.IsKnown(cell.x(), cell.y()); }
   bool PredictedWall(const Eigen::Vector2i& cell) const { return walls_.IsKnown(cell.x(), cell.y()); }
+  // The covered cells: known exactly where Covered() holds (for walking them tile by tile).
+  const OccupancyGrid& covering() const { return covering_; }
 
  private:
   // Counts per cell (unknown: zero), in grids for their sparse tiled storage.

@@ -1,7 +1,9 @@
-// Sessions: list, create, get, close, delete; a session's statistics, trajectory and events.
+// Sessions: list, create, get, close, delete; a session's statistics, trajectory and events; the
+// operator's exploration choice.
 #include "api/handlers.hpp"
 #include "api/query.hpp"
 #include "service/api_error.hpp"
+#include "service/json_fields.hpp"
 #include "service/json_views.hpp"
 
 namespace pslam::server {
@@ -11,7 +13,13 @@ constexpr long long kMaxPage = 1000;
 
 nlohmann::json SessionWithLiveState(ApiContext& ctx, const SessionRow& row) {
   nlohmann::json j = SessionToJson(row);
-  j["running"] = ctx.mapping.Running(row.id) != nullptr;
+  const auto rt = ctx.mapping.Running(row.id);
+  j["running"] = rt != nullptr;
+  // Where exploration stands: live from the engine, else as of the last checkpoint.
+  const nlohmann::json stored = ParseStoredJson(row.stats_json);
+  const std::string state = rt ? rt->engine->stats().exploration
+                               : (stored.is_object() ? stored.value("exploration", std::string()) : std::string());
+  j["exploration"] = state.empty() ? nlohmann::json() : nlohmann::json(state);
   return j;
 }
 
@@ -57,6 +65,16 @@ void AddSessionRoutes(Router& router, ApiContext& ctx) {
   });
   router.Add("GET", "/api/sessions/{id}/stats", Access::kRead, [&ctx](const ApiRequest& req) {
     return JsonResponse(200, ctx.mapping.Statistics(SessionIdParam(req)).dump());
+  });
+  router.Add("POST", "/api/sessions/{id}/exploration", Access::kWrite, [&ctx](const ApiRequest& req) {
+    const std::string id = SessionIdParam(req);
+    const nlohmann::json body = ParseJsonBody(req);
+    JsonFields f(body, "exploration");
+    const auto verify = f.Bool("verify_predictions");
+    f.RejectUnknown();
+    if (!verify) f.Fail("verify_predictions", "is required (true or false)");
+    ctx.mapping.SetVerifyPredicted(id, *verify);
+    return JsonResponse(200, nlohmann::json{{"session_id", id}, {"verify_predictions", *verify}}.dump());
   });
   router.Add("GET", "/api/sessions/{id}/trajectory", Access::kRead, [&ctx](const ApiRequest& req) {
     const std::string id = SessionIdParam(req);

@@ -27,6 +27,10 @@ struct PlanRequest {
   PredictionCoverage coverage;  // cells covered by active hypotheses (skip-predicted mode)
   Pose2D pose;                  // the robot's pose on that map
   bool skip_predicted = false;
+  // Skip-predicted: once only frontiers that predictions cover are left, go and verify them (plan
+  // with full coverage) rather than stop.
+  bool verify_predicted = true;
+  std::vector<Eigen::Vector2d> blacklist;  // targets given up (the robot made no progress towards them)
   double time = 0.0;            // input time of the request
 };
 
@@ -36,6 +40,13 @@ struct PlanResult {
   std::optional<ExploreTarget> target;  // empty: exploration is done (or blocked)
   std::vector<std::array<double, 2>> frontiers;  // cluster centroids
   std::string error;  // planning threw (out of memory, ...): the session's engine fails with this
+  bool verifying = false;       // 'target' is a frontier predictions cover (skip mode, verify_predicted)
+  bool start_blocked = false;   // the robot's position could not be left on the map
+  int skipped = 0;              // frontier clusters left out as covered by predictions
+  int unreachable = 0;          // frontier clusters no path reaches
+  int blacklisted = 0;
+  double mapped_m2 = 0.0;       // free area of the map
+  double predicted_m2 = 0.0;    // area predictions cover that the map has not decided
 };
 
 class ExplorationPlanner {

@@ -191,6 +191,7 @@ void SessionEngine::ReplaceTrajectory() {
 void SessionEngine::Process(const InputRecord& input, std::optional<SteadyTime> received) {
   if (input.seq <= processed_seq_.load()) return;  // already in the filter
   const SteadyTime start = SteadyNow();
+  pipeline_->SetVerifyPredicted(verify_predicted_);
   PipelineStep step = pipeline_->Add(input);
   if (step.scan) last_scan_ = step.scan;
   const double step_ms = SecondsSince(start) * 1e3;
@@ -206,7 +207,9 @@ void SessionEngine::Process(const InputRecord& input, std::optional<SteadyTime> 
     stored_hypotheses_.push_back(std::move(h));
   }
   for (std::int64_t id : step.hypotheses_removed) live_removed_.push_back(id);
+  if (step.stuck && sinks_.stuck && !rebuilding_) sinks_.stuck(*step.stuck);
   if (step.target) SendTarget(*step.target);
+  ReportExploration();
   if (step.tracking_changed) ReportTracking(input);
   processed_seq_ = input.seq;
   live_dirty_ = stored_dirty_ = true;
@@ -222,6 +225,7 @@ void SessionEngine::Process(const InputRecord& input, std::optional<SteadyTime> 
 void SessionEngine::TakePlan() {
   const auto frontiers_before = pipeline_->frontiers();
   const std::optional<ExplorationTarget> target = pipeline_->TakePlan();
+  ReportExploration();
   // A plan that changes nothing the viewers see is no reason for a live tick.
   if (pipeline_->frontiers() != frontiers_before) live_dirty_ = true;
   if (!target) return;
@@ -232,6 +236,13 @@ void SessionEngine::TakePlan() {
 void SessionEngine::SendTarget(const ExplorationTarget& target) {
   live_target_ = target;
   if (sinks_.target && !rebuilding_) sinks_.target(target);
+}
+
+void SessionEngine::ReportExploration() {
+  if (!pipeline_->TakeExplorationChange()) return;
+  last_stats_sent_ = SteadyTime{};  // viewers see it at the next live tick
+  live_dirty_ = true;
+  if (sinks_.exploration && !rebuilding_) sinks_.exploration(pipeline_->exploration());
 }
 
 void SessionEngine::ReportTracking(const InputRecord& input) {
@@ -259,6 +270,12 @@ EngineStats SessionEngine::CurrentStats() const {
   s.tracking = TrackingStateName(pipeline_->divergence().state());
   s.tracking_reason = pipeline_->divergence().reason();
   s.updates_using_predictions = f.updates_using_predictions;
+  const ExplorationStatus& e = pipeline_->exploration();
+  s.exploration = e.state;
+  s.exploration_reason = e.reason;
+  s.mapped_m2 = e.mapped_m2;
+  s.predicted_m2 = e.predicted_m2;
+  s.predicted_frontiers = e.predicted_frontiers;
   const PSlamStats p = pipeline_->pslam_stats();
   s.targets = p.targets;
   s.predictions_made = p.predictions_made;

@@ -39,6 +39,8 @@ struct EngineSinks {
   std::function<void(std::int64_t processed_seq)> progress;
   std::function<void(const ExplorationTarget&)> target;
   std::function<void(const TrackingChange&)> tracking;  // not while rebuilding: reported when first seen
+  std::function<void(const ExplorationStatus&)> exploration;  // the state changed; not while rebuilding
+  std::function<void(const StuckReport&)> stuck;               // a target was given up; not while rebuilding
   // The filter threw (out of memory, the memory limit, ...). The engine has already dropped its
   // pipeline (the memory) and takes no more inputs; nothing of the engine runs after this returns.
   std::function<void(const std::string& error)> failed;
@@ -71,6 +73,10 @@ class SessionEngine {
   void Stop();
   // Stops without a checkpoint. For a deleted session.
   void Abort();
+  // Skip-predicted exploration: visit the frontiers predictions cover once no other is left (the
+  // default), or wait for the operator. Any thread; applies from the next input.
+  void SetVerifyPredicted(bool verify) { verify_predicted_ = verify; }
+  bool verify_predicted() const { return verify_predicted_.load(); }
 
   const std::string& session_id() const { return session_id_; }
   std::int64_t processed_seq() const { return processed_seq_.load(); }
@@ -94,6 +100,7 @@ class SessionEngine {
   void TakePlan();
   void SendTarget(const ExplorationTarget& target);  // to the viewers and (unless rebuilding) the agent
   void ReportTracking(const InputRecord& input);      // the divergence monitor's state changed at 'input'
+  void ReportExploration();                           // after a plan was taken
   void PublishLive(bool final_tick = false);
   bool StatsDue(SteadyTime now) const;
   SteadyTime::duration StatsPeriod() const;
@@ -141,6 +148,7 @@ class SessionEngine {
   std::atomic<bool> failed_{false};
   std::atomic<bool> rebuilding_{false};
   std::atomic<bool> exited_{false};
+  std::atomic<bool> verify_predicted_{true};
   std::thread thread_;
 };
 

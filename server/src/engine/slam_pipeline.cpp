@@ -14,6 +14,11 @@ namespace {
 // Re-plan at least this often (input time), and whenever the robot is this close to its target.
 constexpr double kReplanSeconds = 5.0;
 constexpr double kTargetReachedMetres = 0.6;
+// A robot with a path that has not moved this far for this long (input time) is stuck: its target
+// is given up and another chosen. Long enough for turning on the spot and for an obstacle stop
+// while a person passes.
+constexpr double kProgressMetres = 0.3;
+constexpr double kStuckSeconds = 30.0;
 
 }  // namespace
 
@@ -143,6 +148,7 @@ PipelineStep SlamPipeline::Add(const InputRecord& input) {
     }
   }
   if (planner_) {
+    WatchProgress(input.t, step);
     step.target = TakePlan();
     // Planned on input time, not on filter updates: a robot that reached its target stands still,
     // and would never be given the next one.
@@ -156,8 +162,54 @@ void SlamPipeline::MaybeRequestPlan(double time) {
   const bool near_target = target_ && std::hypot(target_->x - pose.x, target_->y - pose.y) < kTargetReachedMetres;
   if (!near_target && time - last_plan_time_ < kReplanSeconds) return;
   if (planner_->busy()) return;  // asked again at the next input
-  PlanRequest request{slam_.filter().best().map, slam_.coverage(), pose, settings_.predict, time};
+  PlanRequest request{slam_.filter().best().map, slam_.coverage(), pose, settings_.predict, verify_predicted_,
+                      blacklist_, time};
   if (planner_->Request(std::move(request))) last_plan_time_ = time;
+}
+
+void SlamPipeline::WatchProgress(double time, PipelineStep& step) {
+  const Pose2D pose = slam_.filter().best().pose;
+  const bool driving = target_ && !target_->path.empty();
+  if (!driving || !progress_anchor_ || std::hypot(pose.x - progress_anchor_->x, pose.y - progress_anchor_->y) > kProgressMetres) {
+    progress_anchor_ = pose;
+    progress_anchor_time_ = time;
+    return;
+  }
+  if (time - progress_anchor_time_ < kStuckSeconds) return;
+  step.stuck = StuckReport{time, pose.x, pose.y, target_->x, target_->y, time - progress_anchor_time_};
+  blacklist_.emplace_back(target_->x, target_->y);
+  target_.reset();
+  progress_anchor_.reset();
+  last_plan_time_ = -1e300;  // choose another target at once
+}
+
+void SlamPipeline::UpdateExploration(const PlanResult& plan) {
+  ExplorationStatus next;
+  next.mapped_m2 = plan.mapped_m2;
+  next.predicted_m2 = plan.predicted_m2;
+  next.predicted_frontiers = plan.skipped;
+  next.t = plan.time;
+  const auto count = [](int n, const char* what) { return std::to_string(n) + " " + what + (n == 1 ? "" : "s"); };
+  if (plan.target) {
+    // Verifying opens frontiers of its own, which skip mode then takes: still verifying.
+    next.state = plan.verifying || exploration_.state == "verifying" ? "verifying" : "exploring";
+    if (plan.verifying) next.reason = "only frontiers that predictions cover are left: visiting them to verify the predictions";
+  } else if (plan.start_blocked) {
+    next.state = "blocked";
+    next.reason = "the robot cannot leave its position on the map";
+  } else if (plan.skipped > 0) {
+    next.state = "waiting_for_verification";
+    next.reason = count(plan.skipped, "frontier") + " left that predictions cover; verifying them is off";
+  } else {
+    next.state = "complete";
+    if (plan.unreachable > 0 || plan.blacklisted > 0) {
+      next.reason = count(plan.unreachable, "frontier") + " no path reaches, " + count(plan.blacklisted, "target") +
+                    " given up";
+    }
+  }
+  // An event per new state; the reason's counts change at every plan and are in the statistics.
+  if (next.state != exploration_.state) exploration_changed_ = true;
+  exploration_ = std::move(next);
 }
 
 std::optional<ExplorationTarget> SlamPipeline::TakePlan() {
@@ -165,6 +217,7 @@ std::optional<ExplorationTarget> SlamPipeline::TakePlan() {
   std::optional<PlanResult> plan = planner_->TakeResult();
   if (!plan) return std::nullopt;
   if (!plan->error.empty()) throw std::runtime_error("exploration planning failed: " + plan->error);
+  UpdateExploration(*plan);
   frontiers_ = std::move(plan->frontiers);
   const Pose2D& pose = plan->pose;
   if (!plan->target) {

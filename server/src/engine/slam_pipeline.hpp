@@ -8,8 +8,10 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <utility>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "engine/exploration_planner.hpp"
@@ -22,6 +24,27 @@
 
 namespace pslam::server {
 
+// Where exploration stands, as the operator sees it (sessions that plan targets).
+struct ExplorationStatus {
+  // "exploring", "verifying" (visiting frontiers predictions cover), "waiting_for_verification"
+  // (only such frontiers are left and verifying is off), "complete" or "blocked" (no target can be
+  // reached from where the robot is); empty before the first plan.
+  std::string state;
+  std::string reason;           // why, in words, for the states that end or pause exploration
+  double mapped_m2 = 0.0;       // free area mapped
+  double predicted_m2 = 0.0;    // area predictions cover that is not mapped yet
+  int predicted_frontiers = 0;  // frontier clusters predictions cover
+  double t = 0.0;               // input time of the plan
+};
+
+// The robot made no progress towards its target for a while; the target was given up.
+struct StuckReport {
+  double t = 0.0;
+  double x = 0.0, y = 0.0;      // robot position
+  double target_x = 0.0, target_y = 0.0;
+  double seconds = 0.0;         // input time without progress
+};
+
 // What one input changed.
 struct PipelineStep {
   std::shared_ptr<const LaserScan> scan;          // the scan the filter took; null for odometry
@@ -30,6 +53,7 @@ struct PipelineStep {
   std::vector<std::int64_t> hypotheses_removed;
   std::optional<ExplorationTarget> target;        // a newly planned target, if any (see TakePlan)
   bool tracking_changed = false;                  // the divergence monitor's state changed
+  std::optional<StuckReport> stuck;               // the target was given up at this input
 };
 
 // The LaserScan for a stored scan input of a session with laser 'laser'. Ranges that are not
@@ -73,11 +97,19 @@ class SlamPipeline {
   const std::vector<HypothesisRecord>& hypotheses() const { return hypotheses_; }
   const std::vector<std::array<double, 2>>& frontiers() const { return frontiers_; }
   const std::optional<ExplorationTarget>& target() const { return target_; }
+  const ExplorationStatus& exploration() const { return exploration_; }
+  // True once after each plan that changed the exploration state (not merely its reason).
+  bool TakeExplorationChange() { return std::exchange(exploration_changed_, false); }
+  // Skip-predicted mode: whether frontiers covered by predictions are visited once no other is left
+  // (true), or the robot waits there for the operator. Takes effect at the next plan.
+  void SetVerifyPredicted(bool verify) { verify_predicted_ = verify; }
 
  private:
   HypothesisRecord ToRecord(const Hypothesis& h) const;
   void CheckMemory() const;
   void MaybeRequestPlan(double time);
+  void WatchProgress(double time, PipelineStep& step);
+  void UpdateExploration(const PlanResult& plan);
 
   SessionSettings settings_;
   LaserGeometry laser_;
@@ -89,6 +121,12 @@ class SlamPipeline {
   std::optional<ExplorationTarget> target_;
   double last_plan_time_ = -1e300;
   bool exploration_done_ = false;
+  ExplorationStatus exploration_;
+  bool exploration_changed_ = false;
+  bool verify_predicted_ = true;
+  std::vector<Eigen::Vector2d> blacklist_;        // targets given up
+  std::optional<Pose2D> progress_anchor_;         // where the robot was when it last made progress
+  double progress_anchor_time_ = 0.0;
   std::unique_ptr<ExplorationPlanner> planner_;  // last: its worker reads nothing of ours
 };
 

@@ -30,6 +30,13 @@ struct EngineStats {
   double prediction_ms_mean = 0.0;
   double prediction_ms_max = 0.0;
   std::int64_t updates_using_predictions = 0;  // filter updates whose weights used hypotheses
+  // Exploration (sessions with a robot to drive; engine/slam_pipeline.hpp, ExplorationStatus):
+  // empty state before the first plan and for replays.
+  std::string exploration;
+  std::string exploration_reason;
+  double mapped_m2 = 0.0;
+  double predicted_m2 = 0.0;
+  int predicted_frontiers = 0;
 };
 
 }  // namespace pslam::server

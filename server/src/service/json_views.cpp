@@ -76,7 +76,12 @@ nlohmann::json EngineStatsToJson(const EngineStats& s) {
           {"hypotheses", s.hypotheses},
           {"prediction_ms_mean", s.prediction_ms_mean},
           {"prediction_ms_max", s.prediction_ms_max},
-          {"updates_using_predictions", s.updates_using_predictions}};
+          {"updates_using_predictions", s.updates_using_predictions},
+          {"exploration", s.exploration},
+          {"exploration_reason", s.exploration_reason},
+          {"mapped_m2", s.mapped_m2},
+          {"predicted_m2", s.predicted_m2},
+          {"predicted_frontiers", s.predicted_frontiers}};
 }
 
 nlohmann::json HypothesisCountsToJson(const HypothesisCounts& c) {

@@ -89,6 +89,21 @@ std::shared_ptr<SessionRuntime> MappingService::Launch(const SessionRow& row, co
     LogEvent(id, "filter_lost",
              {{"scan_index", change.scan_index}, {"seq", change.seq}, {"t", change.t}, {"reason", change.reason}});
   };
+  sinks.exploration = [this, id](const ExplorationStatus& e) {
+    std::cerr << "session " << id << ": exploration " << e.state << (e.reason.empty() ? "" : " (" + e.reason + ")")
+              << "; " << static_cast<int>(e.mapped_m2) << " m2 mapped, " << static_cast<int>(e.predicted_m2)
+              << " m2 predicted\n";
+    LogEvent(id, "exploration",
+             {{"state", e.state}, {"reason", e.reason}, {"t", e.t}, {"mapped_m2", e.mapped_m2},
+              {"predicted_m2", e.predicted_m2}, {"predicted_frontiers", e.predicted_frontiers}});
+  };
+  sinks.stuck = [this, id](const StuckReport& r) {
+    std::cerr << "session " << id << ": robot stuck for " << static_cast<int>(r.seconds) << " s at (" << r.x << ", " << r.y
+              << "); target (" << r.target_x << ", " << r.target_y << ") given up\n";
+    LogEvent(id, "robot_stuck",
+             {{"t", r.t}, {"x", r.x}, {"y", r.y}, {"target", {{"x", r.target_x}, {"y", r.target_y}}},
+              {"seconds", r.seconds}});
+  };
   sinks.failed = [this, id, weak](const std::string& error) { OnEngineFailed(id, weak, error); };
   sinks.rebuilt = [this, id] {
     writer_.Submit([id](SessionRepository& repo) { repo.SetRebuilds(id, 0); });
@@ -551,6 +566,18 @@ void MappingService::DeleteSession(const std::string& id) {
   writer_.Execute([&](SessionRepository& repo) { deleted = repo.DeleteSession(id); });
   if (end_sink_) end_sink_(id, "deleted");
   if (!deleted) throw ApiError::NotFound("no session '" + id.substr(0, 64) + "'");
+}
+
+bool MappingService::SetVerifyPredicted(const std::string& id, bool verify) {
+  const SessionRow row = GetSession(id);
+  const auto rt = Running(id);
+  if (!rt) throw ApiError::Conflict("session " + id + " is " + row.status + ": it explores no more");
+  if (row.source != "agent") throw ApiError::Conflict("session " + id + " has no robot to drive (source " + row.source + ")");
+  if (rt->engine->verify_predicted() != verify) {
+    rt->engine->SetVerifyPredicted(verify);
+    LogEvent(id, "verify_predictions", {{"verify", verify}});
+  }
+  return verify;
 }
 
 nlohmann::json MappingService::Statistics(const std::string& id) {

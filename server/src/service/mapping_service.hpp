@@ -106,6 +106,10 @@ class MappingService {
   SessionRow CloseSession(const std::string& id, const std::string& status = "closed");
   void DeleteSession(const std::string& id);
   nlohmann::json Statistics(const std::string& id);
+  // Skip-predicted exploration of a running agent session: whether the robot goes on to verify the
+  // frontiers that predictions cover (SessionEngine::SetVerifyPredicted). Throws ApiError 404, or
+  // 409 for a session that is not running or has no robot.
+  bool SetVerifyPredicted(const std::string& id, bool verify);
   MapView CurrentMap(const std::string& id);
   std::vector<LiveMessage> StoredLiveSnapshot(const std::string& id);
   void LogEvent(const std::optional<std::string>& session_id, const std::string& kind, nlohmann::json detail);

@@ -57,6 +57,13 @@ export interface EngineStats {
   prediction_ms_mean?: number;
   prediction_ms_max?: number;
   updates_using_predictions?: number;
+  // Exploration (sessions with a robot): 'exploring', 'verifying', 'waiting_for_verification',
+  // 'complete' or 'blocked' ('' before the first plan), why, and the areas mapped and predicted.
+  exploration?: string;
+  exploration_reason?: string;
+  mapped_m2?: number;
+  predicted_m2?: number;
+  predicted_frontiers?: number;
 }
 
 export interface SnapshotMessage {

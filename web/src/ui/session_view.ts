@@ -11,6 +11,7 @@ import { ScanLayer } from '../render/scan_layer';
 import { Viewer } from '../render/viewer';
 import { h } from './dom';
 import { fitBox } from './fit_box';
+import { ExplorationBanner } from './exploration_banner';
 import { iconElement, icons } from './icons';
 
 const kPalette = buildMapPalette();
@@ -31,6 +32,7 @@ export class SessionView {
   private readonly pauseButton: HTMLButtonElement;
   private readonly followButton: HTMLButtonElement;
   private readonly notice: HTMLElement;
+  private readonly banner = new ExplorationBanner();
   private following = false;
   // Keep the whole map in view as it grows, until the user moves the camera.
   private autoFit = true;
@@ -74,6 +76,7 @@ export class SessionView {
       mapHost,
     );
     mapHost.appendChild(this.notice);
+    mapHost.appendChild(this.banner.element);
     this.viewer = new Viewer(mapHost);
     const v = this.viewer;
     // Predicted cells under the map (they show where it is still unknown), their marks over it.
@@ -104,6 +107,7 @@ export class SessionView {
     v.onClick = (x, y) => this.pickHypothesis(x, y);
     this.unsubscribe = this.client.subscribe((e) => {
       if (e.kind === 'state' || e.kind === 'status' || e.kind === 'snapshot' || e.kind === 'error') this.updateHeader();
+      if (e.kind === 'stats' || e.kind === 'snapshot') this.banner.update(this.client.stats.latest);
       if (e.kind === 'tile' || e.kind === 'snapshot' || e.kind === 'hypotheses') this.maybeFit();
       v.requestRender();
       this.onChange?.(e.kind);
