@@ -19,6 +19,8 @@ constexpr double kPollSeconds = 0.05;
 constexpr double kDrivePeriodSeconds = 0.1;        // the controller runs at the SIP rate
 constexpr double kSpoolFullReportPeriod = 10.0;
 constexpr double kCloseTimeoutSeconds = 30.0;  // the server drains the filter before it answers
+constexpr double kSameTargetMetres = 0.05;
+constexpr double kFinalAckWaitSeconds = 10.0;  // closing: how long the server may take to acknowledge the rest
 
 ScanMessage ToMessage(const LaserScan& scan) {
   ScanMessage m;
@@ -43,6 +45,8 @@ Agent::Agent(AgentOptions options, std::unique_ptr<ScanSource> source)
   spool.max_bytes = static_cast<std::uint64_t>(options_.spool_max_mb * 1024 * 1024);
   spool.segment_bytes = std::min<std::uint64_t>(spool.segment_bytes, std::max<std::uint64_t>(spool.max_bytes / 8, 4096));
   spool_ = std::make_unique<Spool>(spool);
+
+  if (options_.close_on_exit) CloseLeftoverSession();
 
   ServerLinkOptions link;
   link.host = options_.server_host;
@@ -142,8 +146,20 @@ void Agent::DriveTick(double now) {
     if (latest_odometry_) {
       follower_.SetPath(MapPathToOdometry(target->path, target->pose, latest_odometry_->pose));
       path_active_ = true;
-      PSLAM_LOG(kInfo) << "new target (" << target->target_x << ", " << target->target_y << ") with "
-                       << target->path.size() << " waypoint(s)";
+      // The server re-plans every few seconds and mostly confirms the target: only a change is news.
+      const bool same = logged_target_ && std::hypot((*logged_target_)[0] - target->target_x,
+                                                     (*logged_target_)[1] - target->target_y) < kSameTargetMetres;
+      if (target->path.empty()) {
+        if (logged_target_) PSLAM_LOG(kInfo) << "no target: the robot stops (the server's events say why)";
+        logged_target_.reset();
+      } else if (!same) {
+        PSLAM_LOG(kInfo) << "new target (" << target->target_x << ", " << target->target_y << ") with "
+                         << target->path.size() << " waypoint(s)";
+        logged_target_ = std::array<double, 2>{target->target_x, target->target_y};
+      } else {
+        PSLAM_LOG(kDebug) << "target (" << target->target_x << ", " << target->target_y << ") re-planned with "
+                          << target->path.size() << " waypoint(s)";
+      }
     }
   }
   VelocityCommand wanted;
@@ -152,7 +168,7 @@ void Agent::DriveTick(double now) {
     wanted = {out.command.linear, out.command.angular};
     if (out.goal_reached) {
       path_active_ = false;
-      PSLAM_LOG(kInfo) << "target reached";
+      if (logged_target_) PSLAM_LOG(kInfo) << "target reached";
     }
   }
   const SafetyDecision decision = safety_.Filter(wanted, now, link_->status().last_server_message_time);
@@ -233,11 +249,61 @@ int Agent::Run(const std::atomic<bool>& stop) {
   if (source_->can_drive()) source_->Drive({});
   source_->Shutdown();
   spool_->Sync();
-  link_->Stop();
-  // After the link: closing the session ends the link too, which would otherwise open a new one.
-  if (replay_acknowledged) CloseFinishedSession();
+  if (options_.close_on_exit && exit_code == kExitOk) {
+    CloseSessionOnExit();
+  } else {
+    link_->Stop();
+    // After the link: closing the session ends the link too, which would otherwise open a new one.
+    if (replay_acknowledged) CloseFinishedSession();
+  }
   LogStatus(AgentClock::Now());
   return exit_code;
+}
+
+void Agent::CloseLeftoverSession() {
+  const std::filesystem::path file = std::filesystem::path(options_.spool_dir) / "session.json";
+  const auto state = LoadSessionState(file);
+  if (!state) return;
+  // This run starts afresh (a simulator starts at its start pose): continuing the session of a run
+  // that was not stopped cleanly would join two unrelated trajectories.
+  PSLAM_LOG(kWarning) << "session " << state->session_id << " was left open by a run that did not stop cleanly; "
+                      << "closing it, this run starts a new one";
+  if (!spool_->empty_of_unacked()) {
+    PSLAM_LOG(kWarning) << "dropping the " << spool_->stats().unacked_records << " message(s) that run left in the spool";
+  }
+  spool_->DropAll();
+  ServerLinkOptions link;
+  link.host = options_.server_host;
+  link.port = options_.server_port;
+  link.token = options_.token;
+  if (const auto error = CloseServerSession(link, state->session_id, kCloseTimeoutSeconds)) {
+    PSLAM_LOG(kWarning) << "could not close session " << state->session_id << " (" << *error << ")";
+  }
+  ClearSessionState(file);
+}
+
+void Agent::CloseSessionOnExit() {
+  // Everything recorded belongs in the session: wait (bounded) for the server to acknowledge it.
+  const double deadline = AgentClock::Now() + kFinalAckWaitSeconds;
+  while (!spool_->empty_of_unacked() && AgentClock::Now() < deadline && !link_->refusal()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  const std::string session = link_->status().session_id;
+  const bool complete = spool_->empty_of_unacked();
+  link_->Stop();
+  if (session.empty()) return;
+  if (!complete) {
+    PSLAM_LOG(kWarning) << "session " << session << " left open: " << spool_->stats().unacked_records
+                        << " message(s) are not acknowledged (the next run closes it)";
+    return;
+  }
+  if (const auto error = CloseServerSession(link_options_, session, kCloseTimeoutSeconds)) {
+    PSLAM_LOG(kWarning) << "could not close session " << session << " (" << *error << "); the next run closes it";
+    return;
+  }
+  spool_->DropAll();  // delivered, and the session is over: a new session must not get them again
+  ClearSessionState(std::filesystem::path(options_.spool_dir) / "session.json");
+  PSLAM_LOG(kInfo) << "session " << session << " closed; the next run starts a new one";
 }
 
 }  // namespace pslam::agent

@@ -5,6 +5,7 @@
 // The loop never waits on the network: the link runs on its own thread and only reads the spool.
 // A full spool refuses new messages (counted and reported) when the source is live; a log replay
 // waits for room instead.
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -57,6 +58,11 @@ class Agent {
   void CloseFinishedSession();
   void DriveTick(double now);
   void LogStatus(double now);
+  // options_.close_on_exit: waits for the last acknowledgements, then closes the session on the server.
+  void CloseSessionOnExit();
+  // options_.close_on_exit: closes the session a previous run left open (killed, or the server was
+  // unreachable when it stopped) and drops what that run did not deliver.
+  void CloseLeftoverSession();
 
   AgentOptions options_;
   std::unique_ptr<ScanSource> source_;
@@ -65,6 +71,7 @@ class Agent {
   ServerLinkOptions link_options_;
   PathFollower follower_;
   bool path_active_ = false;
+  std::optional<std::array<double, 2>> logged_target_;  // the target last named in the log
   SafetyMonitor safety_;
   AgentStats stats_;
   const std::atomic<bool>* stop_ = nullptr;

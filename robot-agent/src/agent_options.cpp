@@ -106,6 +106,8 @@ driving:
   --link-timeout S            stop the robot when the server is silent this long (1.5)
 
   --status-period S           status line period (10)
+  --close-on-exit             close the session on the server when stopped (default for sim)
+  --keep-session              leave it open, to be resumed by the next run (default otherwise)
   --verbose                   debug logging
 )";
 }
@@ -115,6 +117,7 @@ ParsedOptions ParseAgentOptions(const std::vector<std::string>& args) {
   AgentOptions o;
   if (const char* token = std::getenv("PSLAM_AGENT_TOKEN")) o.token = token;
   bool have_server = false, have_source = false;
+  std::optional<bool> close_on_exit;
   using Setter = std::function<void(const std::string&)>;
   const std::map<std::string, Setter> with_value = {
       {"--server", [&](const std::string& v) { ParseServer(o, v); have_server = true; }},
@@ -154,6 +157,8 @@ ParsedOptions ParseAgentOptions(const std::vector<std::string>& args) {
   };
   const std::map<std::string, std::function<void()>> flags = {
       {"--no-drive", [&] { o.drive = false; }},
+      {"--close-on-exit", [&] { close_on_exit = true; }},
+      {"--keep-session", [&] { close_on_exit = false; }},
       {"--verbose", [&] { o.verbose = true; }},
       {"--help", [&] { result.help = true; }},
       {"-h", [&] { result.help = true; }},
@@ -183,6 +188,7 @@ ParsedOptions ParseAgentOptions(const std::vector<std::string>& args) {
     result.error = e.what();
     return result;
   }
+  o.close_on_exit = close_on_exit.value_or(o.source == SourceKind::kSim);
   result.options = o;
   return result;
 }

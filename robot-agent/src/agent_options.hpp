@@ -25,6 +25,9 @@ struct AgentOptions {
   std::string session_name;
   std::string session_settings_json;  // a JSON object sent as hello.settings; empty: none
   bool binary_scans = true;
+  // Close the session on the server when the agent stops (POST /api/sessions/{id}/close), instead
+  // of leaving it to be resumed. Default: for the simulator, whose robot starts afresh each run.
+  bool close_on_exit = false;
 
   // Source: "sim[:WORLD]", "log:FILE", "pioneer:DEVICE" (+ "--laser sick:DEVICE").
   SourceKind source = SourceKind::kSim;

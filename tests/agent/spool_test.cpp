@@ -84,6 +84,24 @@ TEST(SpoolTest, NumberingSurvivesFullAcknowledgement) {
   EXPECT_EQ(spool.next_seq(), 201u);
 }
 
+TEST(SpoolTest, DropAllKeepsNothingToResendAfterAReopen) {
+  TempDir dir;
+  {
+    Spool spool(Options(dir));
+    for (std::uint64_t i = 1; i <= 30; ++i) spool.Append(Payload(i));  // within one segment
+    spool.Acknowledge(30);  // in memory only: a reopen would offer them again
+    spool.DropAll();
+    EXPECT_TRUE(spool.empty_of_unacked());
+  }
+  Spool spool(Options(dir));
+  EXPECT_TRUE(spool.empty_of_unacked());
+  EXPECT_EQ(spool.acked_seq(), 30u);
+  EXPECT_EQ(spool.next_seq(), 31u);
+  EXPECT_FALSE(spool.Read(30));
+  EXPECT_EQ(Segments(dir).size(), 1u);
+  EXPECT_EQ(spool.Append(Payload(31)), 31u);
+}
+
 TEST(SpoolTest, TornLastRecordIsCutNotResent) {
   TempDir dir;
   {

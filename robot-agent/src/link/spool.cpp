@@ -249,6 +249,16 @@ void Spool::Acknowledge(std::uint64_t seq) {
   DeleteAckedSegments();
 }
 
+void Spool::DropAll() {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  acked_ = next_seq_ - 1;
+  if (segments_.back().bytes > 0) {
+    RollSegment();  // deletes the acknowledged segments, now every older one
+  } else {
+    DeleteAckedSegments();
+  }
+}
+
 void Spool::DeleteAckedSegments() {
   while (segments_.size() > 1 && segments_.front().end_seq <= acked_ + 1) {
     if (read_fd_ >= 0 && read_segment_first_ == segments_.front().first_seq) CloseReader();

@@ -80,6 +80,9 @@ class Spool {
   // Everything with seq <= 'seq' is acknowledged (cumulative; smaller values are ignored).
   void Acknowledge(std::uint64_t seq);
   std::uint64_t acked_seq() const;
+  // Acknowledges everything written, durably: the records leave the disk (a fresh segment keeps the
+  // numbering), so a later run does not send them again. For a session that is over.
+  void DropAll();
 
   // Reads the record 'seq' (it must be unacknowledged and already appended); nullopt otherwise.
   // Sequential reads are served from an open file position, so the link's "next record" is cheap.

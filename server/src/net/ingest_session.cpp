@@ -6,6 +6,7 @@ namespace pslam::server {
 namespace {
 constexpr std::size_t kReadChunk = 64 * 1024;
 constexpr std::size_t kMaxQueuedErrors = 32;
+constexpr auto kPausedPingPeriod = std::chrono::seconds(1);
 }  // namespace
 
 IngestSession::IngestSession(tcp::socket&& socket, std::shared_ptr<ServerContext> context, Access access,
@@ -15,7 +16,8 @@ IngestSession::IngestSession(tcp::socket&& socket, std::shared_ptr<ServerContext
       access_(access),
       remote_(std::move(remote)),
       token_(std::move(token)),
-      hello_deadline_(ws_.get_executor()) {}
+      hello_deadline_(ws_.get_executor()),
+      keepalive_(ws_.get_executor()) {}
 
 IngestSession::~IngestSession() {
   if (runtime_) context_->mapping.Detach(runtime_, this);
@@ -193,7 +195,18 @@ void IngestSession::HandleInput(InputRecord input) {
     // written: keep it alive until Resume() (the service holds only a weak pointer).
     paused_self_ = shared_from_this();
     Send(ErrorMessage("overloaded", "the filter is behind; wait for acks before sending more"));
+    KeepAliveWhilePaused();
   }
+}
+
+void IngestSession::KeepAliveWhilePaused() {
+  keepalive_.expires_after(kPausedPingPeriod);
+  keepalive_.async_wait([self = shared_from_this()](beast::error_code ec) {
+    if (ec || !self->paused_ || self->ended_ || self->close_) return;
+    self->ping_wanted_ = true;
+    self->Write();
+    self->KeepAliveWhilePaused();
+  });
 }
 
 void IngestSession::SendAck(std::int64_t seq) {
@@ -214,6 +227,7 @@ void IngestSession::Resume() {
   net::post(ws_.get_executor(), [self = shared_from_this()] {
     self->paused_ = false;
     self->paused_self_.reset();
+    self->keepalive_.cancel();
     self->ReadMore();
   });
 }
@@ -257,6 +271,11 @@ void IngestSession::Write() {
   } else if (pending_target_) {
     in_flight_ = std::move(*pending_target_);
     pending_target_.reset();
+  } else if (ping_wanted_ && !close_) {
+    ping_wanted_ = false;
+    writing_ = true;
+    ws_.async_ping({}, [self = shared_from_this()](beast::error_code ec) { self->OnWrite(ec, 0); });
+    return;
   } else if (close_) {
     close_started_ = true;
     ws_.async_close(*close_, [self = shared_from_this()](beast::error_code ec) {
@@ -286,6 +305,7 @@ void IngestSession::OnEnded() {
   ended_ = true;
   paused_self_.reset();
   hello_deadline_.cancel();
+  keepalive_.cancel();
   --context_->agents;
   if (runtime_) {
     context_->mapping.Detach(runtime_, this);

@@ -3,7 +3,9 @@
 // opens or resumes a session; odom and scan are admitted exactly once and acknowledged after the
 // commit. Messages are read frame by frame so an oversize message is refused with an error before
 // it is buffered. While the session's filter is too far behind, the session stops reading (TCP
-// then pushes back on the agent) and resumes when the filter catches up.
+// then pushes back on the agent) and resumes when the filter catches up. Meanwhile (a resumed
+// session's rebuild can take a minute) it pings the agent every second: an agent hears nothing
+// else, and would take the silence for a dead link.
 //
 // Outbound messages are few and bounded: acks coalesce into the latest, targets replace each
 // other, errors beyond a small backlog are dropped.
@@ -50,6 +52,7 @@ class IngestSession : public AgentLink, public Closable, public std::enable_shar
   void CloseAfterSending(websocket::close_code code, const std::string& reason);
   void Write();
   void OnWrite(beast::error_code ec, std::size_t bytes);
+  void KeepAliveWhilePaused();
   void OnEnded();
   void OnHelloDeadline(beast::error_code ec);
   void CloseUngreeted(const std::string& why);
@@ -79,6 +82,8 @@ class IngestSession : public AgentLink, public Closable, public std::enable_shar
   bool writing_ = false;
   std::optional<websocket::close_reason> close_;
   bool close_started_ = false;
+  bool ping_wanted_ = false;
+  net::steady_timer keepalive_;
 };
 
 }  // namespace pslam::server
