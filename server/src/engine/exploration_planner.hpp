@@ -27,11 +27,11 @@ struct PlanRequest {
   PredictionCoverage coverage;  // cells covered by active hypotheses (skip-predicted mode)
   Pose2D pose;                  // the robot's pose on that map
   bool skip_predicted = false;
+  double time = 0.0;            // input time of the request
   // Skip-predicted: once only frontiers that predictions cover are left, go and verify them (plan
   // with full coverage) rather than stop.
   bool verify_predicted = true;
-  std::vector<Eigen::Vector2d> blacklist;  // targets given up (the robot made no progress towards them)
-  double time = 0.0;            // input time of the request
+  std::vector<Eigen::Vector2d> blacklist{};  // targets given up (the robot made no progress towards them)
 };
 
 struct PlanResult {

@@ -162,8 +162,8 @@ void SlamPipeline::MaybeRequestPlan(double time) {
   const bool near_target = target_ && std::hypot(target_->x - pose.x, target_->y - pose.y) < kTargetReachedMetres;
   if (!near_target && time - last_plan_time_ < kReplanSeconds) return;
   if (planner_->busy()) return;  // asked again at the next input
-  PlanRequest request{slam_.filter().best().map, slam_.coverage(), pose, settings_.predict, verify_predicted_,
-                      blacklist_, time};
+  PlanRequest request{slam_.filter().best().map, slam_.coverage(), pose, settings_.predict, time, verify_predicted_,
+                      blacklist_};
   if (planner_->Request(std::move(request))) last_plan_time_ = time;
 }
 
