@@ -80,9 +80,16 @@ TEST(ExplorationPlannerTest, SkipsFrontiersCoveredByPredictionsAndReportsDone) {
     for (int x = -60; x < 120; ++x) cells.push_back({{x, y}, false});
   }
   request.coverage.Add(cells);
+  request.verify_predicted = false;
   const PlanResult result = Plan(request);
   EXPECT_FALSE(result.target);  // nothing left to explore
+  EXPECT_EQ(result.skipped, 1);
   EXPECT_EQ(result.frontiers.size(), 1u);  // the frontier is still there, only skipped
+  // Verifying (the default): the predicted frontier becomes the target.
+  request.verify_predicted = true;
+  const PlanResult verify = Plan(request);
+  ASSERT_TRUE(verify.target);
+  EXPECT_TRUE(verify.verifying);
 }
 
 }  // namespace
