@@ -57,9 +57,11 @@ start_server() {
   done
   fail "pslam-server not healthy within 60 s"
 }
+# --keep-session: a restarted agent resumes its session, as a robot's does (a simulator agent would
+# otherwise start a new session at each run).
 start_agent() {
   "$bin/pslam-agent" --server "127.0.0.1:$port" --source "$source" --rate "$rate" --spool "$work/spool" \
-    --status-period 0.5 >>"$work/agent.log" 2>&1 &
+    --keep-session --status-period 0.5 >>"$work/agent.log" 2>&1 &
   agent_pid=$!
 }
 # Highest acknowledgement the agent has reported ("acked N" in its status lines).
