@@ -19,7 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string WorldYaml(const std::string& name) {
-  return (fs::path(__FILE__).parent_path().parent_path().parent_path() / "core" / "worlds" / (name + ".yaml")).string();
+  return (fs::path(PSLAM_SOURCE_DIR) / "core" / "worlds" / (name + ".yaml")).string();
 }
 
 // Fewer particles than the default: the checks are about the loop, not the filter's accuracy.

@@ -22,7 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string MazeYaml() {
-  return (fs::path(__FILE__).parent_path().parent_path().parent_path() / "core" / "worlds" / "maze.yaml").string();
+  return (fs::path(PSLAM_SOURCE_DIR) / "core" / "worlds" / "maze.yaml").string();
 }
 
 // Fraction of the world's free cells that the built map also reads as free.

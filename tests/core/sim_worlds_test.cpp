@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 
 constexpr double kRes = kShippedWorldResolution;
 
-fs::path WorldsDir() { return fs::path(__FILE__).parent_path().parent_path().parent_path() / "core" / "worlds"; }
+fs::path WorldsDir() { return fs::path(PSLAM_SOURCE_DIR) / "core" / "worlds"; }
 std::string Yaml(const std::string& name) { return (WorldsDir() / (name + ".yaml")).string(); }
 
 // Lengths of the runs of equal cells along a row (horizontal) or column, over [from, to) cells.
