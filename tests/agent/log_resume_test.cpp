@@ -6,14 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <boost/asio.hpp>
-#include <boost/beast/core.hpp>
-#include <boost/beast/http.hpp>
 #include <nlohmann/json.hpp>
 #include <thread>
 
 #include "agent.hpp"
 #include "server/support/server_process.hpp"
+#include "server_rest.hpp"
 #include "sources/log_source.hpp"
 #include "temp_dir.hpp"
 #include "testing/shared_data.hpp"
@@ -24,23 +22,8 @@ namespace {
 
 using server::testing::ServerProcess;
 using testing::TempDir;
+using testing::GetJson;
 using testing::WaitFor;
-
-nlohmann::json GetJson(unsigned short port, const std::string& target) {
-  namespace beast = boost::beast;
-  namespace http = beast::http;
-  boost::asio::io_context ioc;
-  beast::tcp_stream stream(ioc);
-  stream.connect(boost::asio::ip::tcp::endpoint(boost::asio::ip::make_address("127.0.0.1"), port));
-  http::request<http::empty_body> req{http::verb::get, target, 11};
-  req.set(http::field::host, "127.0.0.1");
-  http::write(stream, req);
-  beast::flat_buffer buffer;
-  http::response<http::string_body> res;
-  http::read(stream, buffer, res);
-  if (res.result_int() != 200) throw std::runtime_error(target + ": HTTP " + std::to_string(res.result_int()) + " " + res.body());
-  return nlohmann::json::parse(res.body());
-}
 
 TEST(LogResumeTest, RestartedReplayContinuesAfterWhatItSpooledAndClosesItsSession) {
   PSLAM_REQUIRE_DATA(log, "intel/intel.clf");

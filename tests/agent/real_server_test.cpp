@@ -15,6 +15,7 @@
 
 #include "agent.hpp"
 #include "server/support/server_process.hpp"
+#include "server_rest.hpp"
 #include "sources/log_source.hpp"
 #include "sources/sim_source.hpp"
 #include "temp_dir.hpp"
@@ -29,20 +30,7 @@ using testing::TempDir;
 using testing::WaitFor;
 
 nlohmann::json GetJson(unsigned short port, const std::string& target) {
-  namespace beast = boost::beast;
-  namespace http = beast::http;
-  boost::asio::io_context ioc;
-  beast::tcp_stream stream(ioc);
-  stream.connect(boost::asio::ip::tcp::endpoint(boost::asio::ip::make_address("127.0.0.1"), port));
-  http::request<http::empty_body> req{http::verb::get, target, 11};
-  req.set(http::field::host, "127.0.0.1");
-  req.set(http::field::authorization, "Bearer viewer-secret-1");
-  http::write(stream, req);
-  beast::flat_buffer buffer;
-  http::response<http::string_body> res;
-  http::read(stream, buffer, res);
-  if (res.result_int() != 200) throw std::runtime_error(target + ": HTTP " + std::to_string(res.result_int()) + " " + res.body());
-  return nlohmann::json::parse(res.body());
+  return testing::GetJson(port, target, "viewer-secret-1");
 }
 
 TEST(RealServerTest, ServerKilledMidStreamAndRestartedStoresEveryScanExactlyOnce) {

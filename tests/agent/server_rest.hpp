@@ -1,0 +1,30 @@
+#pragma once
+// GET of a JSON resource from a pslam-server on 127.0.0.1, for tests against the real server.
+#include <boost/asio.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+
+namespace pslam::agent::testing {
+
+// Throws unless the answer is 200. 'token', when not empty, is sent as a bearer token.
+inline nlohmann::json GetJson(unsigned short port, const std::string& target, const std::string& token = "") {
+  namespace beast = boost::beast;
+  namespace http = beast::http;
+  boost::asio::io_context ioc;
+  beast::tcp_stream stream(ioc);
+  stream.connect(boost::asio::ip::tcp::endpoint(boost::asio::ip::make_address("127.0.0.1"), port));
+  http::request<http::empty_body> req{http::verb::get, target, 11};
+  req.set(http::field::host, "127.0.0.1");
+  if (!token.empty()) req.set(http::field::authorization, "Bearer " + token);
+  http::write(stream, req);
+  beast::flat_buffer buffer;
+  http::response<http::string_body> res;
+  http::read(stream, buffer, res);
+  if (res.result_int() != 200) throw std::runtime_error(target + ": HTTP " + std::to_string(res.result_int()) + " " + res.body());
+  return nlohmann::json::parse(res.body());
+}
+
+}  // namespace pslam::agent::testing
