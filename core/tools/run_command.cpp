@@ -27,13 +27,14 @@ namespace {
 constexpr const char* kUsage =
     "usage: pslam run --log FILE [--particles N] [--seed S] [--threads T] [--trajectory OUT.txt]\n"
     "                 [--map OUT_PREFIX] [--processed-trajectory OUT.txt] [--strict] [--quiet]\n"
-    "                 [--no-predict] [--no-recovery] [--similarity-threshold PSI]\n"
+    "                 [--raw-odometry] [--no-predict] [--no-recovery] [--similarity-threshold PSI]\n"
     "                 [--prediction-range M] [--hypotheses OUT.json] [--merged-map OUT_PREFIX]\n"
     "                 [--set NAME=VALUE ...]\n"
     "  Maps a CARMEN log. --map writes OUT_PREFIX.pgm, .yaml and .png; --trajectory writes one line\n"
     "  'timestamp x y theta' per laser scan of the log; --processed-trajectory only the scans at which\n"
     "  the filter updated. --strict stops at the first corrupt line\n"
-    "  (default: skip and count it). --set tunes any filter option, e.g. --set linear_update=0.5,\n"
+    "  (default: skip and count it). ODOM steps that moved forward while the logged velocity was\n"
+    "  backwards are re-integrated backwards; --raw-odometry keeps the poses as logged. --set tunes any filter option, e.g. --set linear_update=0.5,\n"
     "  or a threshold of the lost-filter warning, e.g. --set divergence.score_lost=0.02; 'pslam run\n"
     "  --help' lists them. A warning goes to stderr whenever the filter looks degraded or lost.\n"
     "  Loop closure is on (--set loop_closure.enabled=false turns it off).\n"
@@ -114,6 +115,7 @@ int RunRunCommand(const std::vector<std::string>& args) {
   const auto processed_path = cli.Value("--processed-trajectory");
   const auto map_prefix = cli.Value("--map");
   const bool strict = cli.Flag("--strict");
+  const bool raw_odometry = cli.Flag("--raw-odometry");
   const bool quiet = cli.Flag("--quiet");
   DivergenceOptions divergence;
   for (const std::string& assignment : cli.Values("--set")) {
@@ -142,7 +144,7 @@ int RunRunCommand(const std::vector<std::string>& args) {
   }
 
   try {
-    CarmenReader reader(*log_path, CarmenReaderOptions{.strict = strict});
+    CarmenReader reader(*log_path, CarmenReaderOptions{.strict = strict, .repair_reversed_odometry = !raw_odometry});
     ScanStream scans(reader);
     PSlam slam(pslam_options);
     const Rbpf& filter = slam.filter();
@@ -201,6 +203,8 @@ int RunRunCommand(const std::vector<std::string>& args) {
     std::printf("late records      %zu dropped (out of time order by more than the reorder window)\n", rs.dropped_late);
     std::printf("no odometry       %zu scans (no robot pose in the line and no ODOM to take one from)\n",
                 scans.scans_without_odometry());
+    std::printf("odometry repair   %zu ODOM steps moved forward while backing up; re-integrated backwards%s\n",
+                rs.repaired_odometry_steps, raw_odometry ? " (off: --raw-odometry)" : "");
     std::printf("particles         %d on %d threads\n", options.particles, options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency()));
     std::printf("wall time         %.2f s\n", wall);
     std::printf("scans/s           %.1f\n", wall > 0 ? s.scans / wall : 0.0);

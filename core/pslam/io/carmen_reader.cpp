@@ -15,6 +15,7 @@
 
 #include "pslam/io/bzip2_line_source.hpp"
 #include "pslam/io/line_source.hpp"
+#include "pslam/io/odometry_reversal.hpp"
 
 #ifdef PSLAM_HAVE_ZLIB
 #include <zlib.h>
@@ -366,6 +367,7 @@ struct CarmenReader::Impl {
   std::string name;
   CarmenReaderOptions options;
   CarmenReadStats stats;
+  OdometryReversalRepair odometry_repair;
   LogParams params;
   std::vector<Entry> heap;
   std::uint64_t seq = 0;
@@ -381,6 +383,7 @@ struct CarmenReader::Impl {
   bool ReadRecord();
   bool HandleLine(Tokens tok);
   void Push(LogRecord record, double t, bool has_odometry);
+  void Repair(Entry& e);
   void Note(const std::string& what);
   void Corrupt(const std::string& what);
 
@@ -400,6 +403,7 @@ std::optional<LogRecord> CarmenReader::Impl::Next() {
       heap.pop_back();
       last_released = e.t;
       last_has_odometry = e.has_odometry;
+      if (options.repair_reversed_odometry) Repair(e);
       return std::move(e.record);
     }
     if (eof) return std::nullopt;
@@ -476,6 +480,16 @@ void CarmenReader::Impl::Push(LogRecord record, double t, bool has_odometry) {
   newest = std::max(newest, t);
   heap.push_back({t, seq++, std::move(record), has_odometry});
   std::push_heap(heap.begin(), heap.end(), Later);
+}
+
+// Records leave in time order, which the repair needs: a scan continues from the ODOM before it.
+void CarmenReader::Impl::Repair(Entry& e) {
+  if (auto* odom = std::get_if<OdometryReading>(&e.record)) {
+    odometry_repair.Apply(*odom);
+    stats.repaired_odometry_steps = odometry_repair.repaired_steps();
+  } else if (e.has_odometry) {
+    odometry_repair.Apply(std::get<LaserScan>(e.record));
+  }
 }
 
 void CarmenReader::Impl::Note(const std::string& what) {

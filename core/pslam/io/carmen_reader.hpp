@@ -23,6 +23,9 @@ struct CarmenReaderOptions {
   bool strict = false;            // strict: the first corrupt line throws CarmenParseError; lenient: skip it and count it
   double reorder_window_s = 5.0;  // records are released in ipc_timestamp order once they are this far behind the newest seen
   double default_max_range = 0.0; // 0: from PARAM robot_front_laser_max / the record / the CARMEN convention (80 m)
+  // Re-integrate ODOM steps whose pose moved forward while the logged velocity was backwards
+  // (odometry_reversal.hpp); scan odometry follows.
+  bool repair_reversed_odometry = true;
 };
 
 struct CarmenReadStats {
@@ -33,6 +36,8 @@ struct CarmenReadStats {
   // Records that arrived more than reorder_window_s older than one already released: emitting them
   // would break time order, so they are dropped (and noted in first_errors). Not a corrupt line.
   std::size_t dropped_late = 0;
+  // ODOM steps whose pose moved forward while the robot backed up, re-integrated backwards.
+  std::size_t repaired_odometry_steps = 0;
   std::vector<std::string> first_errors;  // up to 20 messages "FILE:LINE: what is wrong"
 };
 
