@@ -85,7 +85,9 @@ UseCounts Drive(const std::vector<PredictedCell>& hypothesis, bool recovery) {
       }
       if (!step.updated) continue;
       // Too few endpoints in the hypothesis measure no hit ratio: its zero is not a measurement.
-      if (!step.prediction.measured) EXPECT_EQ(step.prediction.best_hit_ratio, 0.0);
+      if (!step.prediction.measured) {
+        EXPECT_EQ(step.prediction.best_hit_ratio, 0.0);
+      }
       if (step.prediction.hypothesis_points < options.min_hypothesis_points) continue;
       EXPECT_TRUE(step.prediction.measured);
       ++counts.with_points;
