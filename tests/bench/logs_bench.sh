@@ -2,8 +2,10 @@
 # Accuracy, time and memory of `pslam run` on the benchmark logs of Kümmerle et al. 2009 (every
 # NAME/ folder of the shared data holding NAME.clf and NAME.relations) at several seeds. Prints
 # one markdown table: a row per run, then per log the mean and the worst (largest) value of each
-# column, with the ratio of the errors to Cartographer's (Hess et al., ICRA 2016, Table II).
-# Wall time and peak memory are those `pslam run` reports for mapping the log.
+# column, with the ratio of the errors to Cartographer's (Hess et al., ICRA 2016, Table II), and
+# how many runs failed: above 0.06 m, the published RBPF level. Wall time and peak memory are those
+# `pslam run` reports for mapping the log; with --predict, the share of filter updates whose
+# weights used predictions is given too.
 #
 # Usage: tests/bench/logs_bench.sh [--seeds LIST] [--particles N] [--logs NAME,...] [--predict]
 #                                  [--jobs J] [--set NAME=VALUE]... [--data DIR]
@@ -99,7 +101,7 @@ report_failure() {
   head -n 5 "$5" >&2
 }
 
-# One run and its evaluation; leaves "trans rot used missing wall mem" in $tmp/LOG.SEED.row.
+# One run and its evaluation; leaves "trans rot used missing wall mem predicted" in $tmp/LOG.SEED.row.
 run_one() {
   local log=$1 seed=$2 status=0
   local base=$tmp/$log.$seed measure=()
@@ -110,14 +112,17 @@ run_one() {
   "$pslam" eval --json --trajectory "$base.trajectory" --relations "$data/$log/$log.relations" \
     >"$base.rpe" 2>"$base.err" || status=$?
   (( status == 0 )) || { report_failure eval "$log" "$seed" "$status" "$base.err"; return 1; }
-  local wall mem
+  local wall mem predicted
   wall=$(awk '/^wall time/ {print $3}' "$base.run")
+  # "updates weighed   W with hypothesis points, U used them" against "scans processed S (N filter updates)"
+  predicted=$(awk '/^scans processed/ {gsub(/\(/, "", $4); n = $4}
+                   /^updates weighed/ {u = $7} END {if (u != "" && n > 0) printf "%.1f", 100 * u / n; else print "-"}' "$base.run")
   mem=$(awk '/^peak memory/ {print $3}' "$base.run")
   if [[ -z $mem && -f $base.time ]]; then
     mem=$(awk -F': *' '/Maximum resident set size/ {printf "%.1f", $2 / 1024}' "$base.time")
   fi
   echo "$(json_field trans_mean_m "$base.rpe") $(json_field rot_mean_deg "$base.rpe")" \
-    "$(json_field used "$base.rpe") $(json_field missing "$base.rpe") ${wall:-?} ${mem:-?}" >"$base.row"
+    "$(json_field used "$base.rpe") $(json_field missing "$base.rpe") ${wall:-?} ${mem:-?} $predicted" >"$base.row"
   echo "logs_bench: $log seed $seed done:" "$(awk '{printf "%.4f m, %.3f deg", $1, $2}' "$base.row"), ${wall:-?} s" >&2
 }
 
@@ -166,8 +171,9 @@ done | awk '
     ref_t["intel"] = 0.0229; ref_r["intel"] = 0.45
     ref_t["aces"] = 0.0375; ref_r["aces"] = 0.37
     ref_t["fr079"] = 0.0452; ref_r["fr079"] = 0.54
-    print "| log | seed | RPE translation mean (m) | RPE rotation mean (deg) | vs Cartographer (translation / rotation) | relations used / missing | wall (s) | peak memory (MiB) |"
-    print "| --- | --- | --- | --- | --- | --- | --- | --- |"
+    failed_above = 0.06  # m: the GMapping-class RBPF of Kümmerle et al. 2009
+    print "| log | seed | RPE translation mean (m) | RPE rotation mean (deg) | vs Cartographer (translation / rotation) | relations used / missing | wall (s) | peak memory (MiB) | updates using predictions (%) |"
+    print "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
   }
   function one_decimal(v) { return v ~ /^[0-9.]+$/ ? sprintf("%.1f", v) : v }
   function ratio(name, t, r) {
@@ -176,21 +182,24 @@ done | awk '
   }
   function summary(name,   ref) {
     ref = (name in ref_t) ? sprintf(" of %.4f m / %.2f deg", ref_t[name], ref_r[name]) : ""
-    printf "| %s | mean of %d | %.4f | %.3f | %s%s | | %.1f | %.1f |\n", name, n, st / n, sr / n,
-           ratio(name, st / n, sr / n), ref, sw / n, sm / n
-    printf "| %s | worst | %.4f | %.3f | %s | | %.1f | %.1f |\n", name, wt, wr, ratio(name, wt, wr), ww, wm
+    printf "| %s | mean of %d | %.4f | %.3f | %s%s | | %.1f | %.1f | %s |\n", name, n, st / n, sr / n,
+           ratio(name, st / n, sr / n), ref, sw / n, sm / n, np ? sprintf("%.1f", sp / np) : "-"
+    printf "| %s | worst | %.4f | %.3f | %s | | %.1f | %.1f | |\n", name, wt, wr, ratio(name, wt, wr), ww, wm
+    printf "| %s | failed (> %.2f m) | %d of %d | | | | | | |\n", name, failed_above, failed, n
   }
   $1 != name && n { summary(name); n = 0 }
   {
     name = $1
-    if (n++ == 0) { st = sr = sw = sm = 0; wt = wr = ww = wm = 0 }
+    if (n++ == 0) { st = sr = sw = sm = sp = np = failed = 0; wt = wr = ww = wm = 0 }
     st += $3; sr += $4; sw += $7; sm += $8
+    if ($9 != "-") { sp += $9; np++ }
+    if ($3 > failed_above) failed++
     if ($3 > wt) wt = $3
     if ($4 > wr) wr = $4
     if ($7 > ww) ww = $7
     if ($8 > wm) wm = $8
-    printf "| %s | %s | %.4f | %.3f | %s | %s / %s | %s | %s |\n", $1, $2, $3, $4, ratio($1, $3, $4), $5, $6,
-           one_decimal($7), one_decimal($8)
+    printf "| %s | %s | %.4f | %.3f | %s | %s / %s | %s | %s | %s |\n", $1, $2, $3, $4, ratio($1, $3, $4), $5, $6,
+           one_decimal($7), one_decimal($8), $9
   }
   END { if (n) summary(name) }
 '
