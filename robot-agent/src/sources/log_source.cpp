@@ -57,16 +57,19 @@ std::optional<SourceEvent> LogSource::ReadEvent() {
   }
 }
 
-std::optional<SourceEvent> LogSource::Next(double timeout_s) {
-  if (finished_) return std::nullopt;
-  if (lookahead_.empty()) {
-    auto event = ReadEvent();
-    if (!event) {
-      finished_ = true;
-      return std::nullopt;
-    }
-    lookahead_.push_back(std::move(*event));
+bool LogSource::FillLookahead() {
+  if (!lookahead_.empty()) return true;
+  auto event = ReadEvent();
+  if (!event) {
+    finished_ = true;
+    return false;
   }
+  lookahead_.push_back(std::move(*event));
+  return true;
+}
+
+std::optional<SourceEvent> LogSource::Next(double timeout_s) {
+  if (finished_ || !FillLookahead()) return std::nullopt;
   SourceEvent& event = lookahead_.front();
   const double t = std::visit([](const auto& e) { return e.timestamp; }, event);
   if (options_.rate > 0) {
@@ -87,14 +90,7 @@ std::optional<SourceEvent> LogSource::Next(double timeout_s) {
 }
 
 std::optional<SourceEvent> LogSource::Take() {
-  if (lookahead_.empty()) {
-    auto event = ReadEvent();
-    if (!event) {
-      finished_ = true;
-      return std::nullopt;
-    }
-    lookahead_.push_back(std::move(*event));
-  }
+  if (!FillLookahead()) return std::nullopt;
   SourceEvent out = std::move(lookahead_.front());
   lookahead_.pop_front();
   if (std::holds_alternative<LaserScan>(out) && options_.max_scans > 0 && ++scans_ >= options_.max_scans) {

@@ -39,6 +39,7 @@ class LogSource : public ScanSource {
  private:
   std::optional<SourceEvent> ReadEvent();  // next event from the log, odometry resolved
   std::optional<SourceEvent> Take();       // the next event, counted against max_scans; no pacing
+  bool FillLookahead();                     // false (and finished) when the log has no event left
 
   LogSourceOptions options_;
   CarmenReader reader_;
