@@ -39,8 +39,14 @@ Result<std::unique_ptr<App>> App::Create(ServerOptions options) {
                                                   StaticFiles(o.web_dir), *app->mapping_, app->workers_);
   ServerContext* context = app->context_.get();
   app->mapping_->SetLiveSinks(
-      [context](const std::string& id, std::shared_ptr<const LiveFrame> frame) { context->hub.Publish(id, *frame); },
-      [context](const std::string& id, const std::string& status) { context->hub.End(id, status); });
+      [context](const std::string& id, std::shared_ptr<const LiveFrame> frame) {
+        context->hub.Publish(id, *frame);
+        context->foxglove.Publish(id, *frame);
+      },
+      [context](const std::string& id, const std::string& status) {
+        context->hub.End(id, status);
+        context->foxglove.End(id);
+      });
   app->api_ = std::make_unique<ApiContext>(ApiContext{*app->mapping_, *app->replay_, std::chrono::steady_clock::now(),
                                                       [context] { return context->hub.viewers(); },
                                                       [context] { return context->agents.load(); }});

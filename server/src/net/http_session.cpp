@@ -1,6 +1,7 @@
 #include "net/http_session.hpp"
 
 #include "api/query.hpp"
+#include "net/foxglove_session.hpp"
 #include "net/ingest_session.hpp"
 #include "net/live_session.hpp"
 
@@ -84,17 +85,31 @@ void HttpSession::Upgrade(http::request<http::string_body> req) {
         ->Run(std::move(req));
     return;
   }
+  // Viewer sockets need a viewer (read) or agent token.
+  const auto refuse_unauthorized = [&] {
+    context_->LogRefusal("GET", path, remote_, 401);
+    ApiResponse r = ErrorResponse(401, "unauthorized", token_given ? "the token is not valid" : "a token is required");
+    r.headers.emplace_back("WWW-Authenticate", "Bearer");
+    Respond(ToBeastResponse(std::move(r), req.version(), false, false));
+  };
   constexpr std::string_view kPrefix = "/api/sessions/", kSuffix = "/live";
   if (path.size() > kPrefix.size() + kSuffix.size() && path.rfind(kPrefix, 0) == 0 &&
       path.compare(path.size() - kSuffix.size(), kSuffix.size(), kSuffix) == 0) {
     const std::string id = path.substr(kPrefix.size(), path.size() - kPrefix.size() - kSuffix.size());
-    if (access < Access::kRead) {
-      context_->LogRefusal("GET", path, remote_, 401);
-      ApiResponse r = ErrorResponse(401, "unauthorized", token_given ? "the token is not valid" : "a token is required");
-      r.headers.emplace_back("WWW-Authenticate", "Bearer");
-      return Respond(ToBeastResponse(std::move(r), req.version(), false, false));
-    }
+    if (access < Access::kRead) return refuse_unauthorized();
     std::make_shared<LiveSession>(stream_.release_socket(), context_, id, ServerContext::TokenOf(req))->Run(std::move(req));
+    return;
+  }
+  if (path == "/foxglove") {
+    if (access < Access::kRead) return refuse_unauthorized();
+    const auto subprotocol = ChooseFoxgloveSubprotocol(req);
+    if (!subprotocol) {
+      return Respond(ToBeastResponse(
+          ErrorResponse(400, "bad_request", "offer the subprotocol foxglove.sdk.v1 or foxglove.websocket.v1"),
+          req.version(), false, false));
+    }
+    std::make_shared<FoxgloveSession>(stream_.release_socket(), context_, ServerContext::TokenOf(req), *subprotocol)
+        ->Run(std::move(req));
     return;
   }
   Respond(ToBeastResponse(ErrorResponse(404, "not_found", "no WebSocket endpoint " + path), req.version(), false, false));

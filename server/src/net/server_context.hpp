@@ -13,6 +13,7 @@
 #include "api/access.hpp"
 #include "api/router.hpp"
 #include "net/beast.hpp"
+#include "net/foxglove_hub.hpp"
 #include "net/hub.hpp"
 #include "net/static_files.hpp"
 #include "service/mapping_service.hpp"
@@ -46,7 +47,12 @@ class ServerContext {
  public:
   ServerContext(NetLimits limits, TokenAuth auth, StaticFiles files, MappingService& mapping,
                 net::thread_pool& workers)
-      : limits(limits), auth(std::move(auth)), files(std::move(files)), mapping(mapping), workers(workers) {}
+      : limits(limits),
+        auth(std::move(auth)),
+        files(std::move(files)),
+        foxglove(workers.get_executor()),
+        mapping(mapping),
+        workers(workers) {}
 
   // The access a request's token grants: "Authorization: Bearer T", or "?token=T" for clients that
   // cannot set headers (browsers opening a WebSocket).
@@ -68,6 +74,7 @@ class ServerContext {
   Router router;
   const StaticFiles files;
   Hub hub;
+  FoxgloveHub foxglove;
   MappingService& mapping;
   net::thread_pool& workers;
   std::atomic<std::size_t> agents{0};
