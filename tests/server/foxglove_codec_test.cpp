@@ -124,6 +124,12 @@ TEST(FoxgloveCodec, PosesAreDecimatedKeepingTheLatest) {
   EXPECT_EQ(p["poses"].back()["position"]["x"], 10.0);
 }
 
+constexpr FoxgloveState::Listening kAll = [] {
+  FoxgloveState::Listening all{};
+  all.fill(true);
+  return all;
+}();
+
 LiveFrame Tick(int cells, double x) {
   LiveFrame f;
   auto grid = std::make_shared<OccupancyGrid>(0.05);
@@ -142,17 +148,17 @@ TEST(FoxgloveState, TheMapGoesOutAtMostOncePerPeriodAndTheLastChangeFollows) {
     for (const auto& m : ms) s.insert(m.topic);
     return s;
   };
-  auto first = topics(state.Apply(Tick(1, 0.0), 1, t0, true));
+  auto first = topics(state.Apply(Tick(1, 0.0), 1, t0, kAll));
   EXPECT_TRUE(first.count(FoxgloveTopic::kMap));
   EXPECT_TRUE(first.count(FoxgloveTopic::kRobot));
   // 100 ms later: the pose goes, the changed map waits for its period.
-  auto second = topics(state.Apply(Tick(2, 1.0), 2, t0 + std::chrono::milliseconds(100), true));
+  auto second = topics(state.Apply(Tick(2, 1.0), 2, t0 + std::chrono::milliseconds(100), kAll));
   EXPECT_TRUE(second.count(FoxgloveTopic::kRobot));
   EXPECT_FALSE(second.count(FoxgloveTopic::kMap));
   ASSERT_TRUE(state.NextDue().has_value());
   EXPECT_EQ(*state.NextDue(), t0 + FoxgloveState::Period(FoxgloveTopic::kMap));
-  EXPECT_TRUE(state.Flush(t0 + std::chrono::milliseconds(500), true).empty());
-  const auto flushed = state.Flush(t0 + std::chrono::seconds(1), true);
+  EXPECT_TRUE(state.Flush(t0 + std::chrono::milliseconds(500), kAll).empty());
+  const auto flushed = state.Flush(t0 + std::chrono::seconds(1), kAll);
   ASSERT_EQ(flushed.size(), 1u);
   EXPECT_EQ(flushed[0].topic, FoxgloveTopic::kMap);
   const auto grid = nlohmann::json::parse(*flushed[0].payload);
@@ -160,10 +166,14 @@ TEST(FoxgloveState, TheMapGoesOutAtMostOncePerPeriodAndTheLastChangeFollows) {
   EXPECT_FALSE(state.NextDue().has_value());
 }
 
-TEST(FoxgloveState, WithNobodyListeningNothingIsEncodedButASubscriberGetsTheLatest) {
+TEST(FoxgloveState, OnlyListenedToTopicsAreSentButASubscriberGetsTheLatestOfAny) {
   FoxgloveState state("s-1");
   const auto t0 = FoxgloveState::Clock::now();
-  EXPECT_TRUE(state.Apply(Tick(3, 2.5), 7, t0, false).empty());
+  FoxgloveState::Listening robot_only{};
+  robot_only[static_cast<std::size_t>(FoxgloveTopic::kRobot)] = true;
+  const auto sent = state.Apply(Tick(3, 2.5), 7, t0, robot_only);
+  ASSERT_EQ(sent.size(), 1u);
+  EXPECT_EQ(sent[0].topic, FoxgloveTopic::kRobot);
   EXPECT_FALSE(state.NextDue().has_value());
   const auto map = state.Latest(FoxgloveTopic::kMap);
   ASSERT_TRUE(map.has_value());

@@ -63,14 +63,29 @@ std::vector<std::shared_ptr<FoxgloveViewer>> FoxgloveHub::Viewers() {
   return out;
 }
 
+FoxgloveState::Listening FoxgloveHub::ListeningTo(const Session& session) {
+  FoxgloveState::Listening listening{};
+  std::lock_guard lock(mutex_);
+  for (std::uint32_t i = 0; i < kTopics; ++i) {
+    const auto it = subscribers_.find(session.first_channel + i);
+    listening[i] = it != subscribers_.end() && it->second > 0;
+  }
+  return listening;
+}
+
+void FoxgloveHub::CountSubscriber(std::uint32_t channel, int delta) {
+  std::lock_guard lock(mutex_);
+  if ((subscribers_[channel] += delta) <= 0) subscribers_.erase(channel);
+}
+
 void FoxgloveHub::Publish(const std::string& session_id, const LiveFrame& frame) {
   const auto session = FindOrAdvertise(session_id);
-  const auto viewers = Viewers();
+  const auto listening = ListeningTo(*session);
   std::vector<FoxgloveMessage> messages;
   {
     std::lock_guard lock(session->mutex);
     if (session->ended) return;
-    messages = session->state.Apply(frame, WallNanoseconds(), FoxgloveState::Clock::now(), !viewers.empty());
+    messages = session->state.Apply(frame, WallNanoseconds(), FoxgloveState::Clock::now(), listening);
     ArmFlush(session);
   }
   Send(*session, messages);
@@ -96,7 +111,7 @@ void FoxgloveHub::ArmFlush(const std::shared_ptr<Session>& session) {
 }
 
 void FoxgloveHub::OnFlush(const std::shared_ptr<Session>& session) {
-  const bool listening = !Viewers().empty();
+  const auto listening = ListeningTo(*session);
   std::vector<FoxgloveMessage> messages;
   {
     std::lock_guard lock(session->mutex);

@@ -46,6 +46,9 @@ class FoxgloveHub {
   void Leave(const FoxgloveViewer* viewer);
   // A channel's current message (encoding it if need be); nullopt if it has none or is not offered.
   std::optional<FoxgloveData> Latest(std::uint32_t channel);
+  // Counts a client's subscription to a channel (+1) or its end (-1): only channels someone
+  // subscribes to are encoded.
+  void CountSubscriber(std::uint32_t channel, int delta);
 
  private:
   struct Session {
@@ -61,6 +64,7 @@ class FoxgloveHub {
   };
   std::shared_ptr<Session> FindOrAdvertise(const std::string& session_id);
   std::vector<std::shared_ptr<FoxgloveViewer>> Viewers();
+  FoxgloveState::Listening ListeningTo(const Session& session);
   void Send(const Session& session, const std::vector<FoxgloveMessage>& messages);
   void ArmFlush(const std::shared_ptr<Session>& session);  // with session->mutex held
   void OnFlush(const std::shared_ptr<Session>& session);
@@ -70,6 +74,7 @@ class FoxgloveHub {
   std::map<std::string, std::shared_ptr<Session>> sessions_;
   std::map<std::uint32_t, std::shared_ptr<Session>> by_channel_;  // first channel of each session
   std::vector<std::weak_ptr<FoxgloveViewer>> viewers_;
+  std::map<std::uint32_t, int> subscribers_;  // channel -> subscriptions to it
   std::uint32_t next_channel_ = 1;
 };
 

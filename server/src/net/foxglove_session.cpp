@@ -60,7 +60,10 @@ FoxgloveSession::FoxgloveSession(tcp::socket&& socket, std::shared_ptr<ServerCon
                                  std::string subprotocol)
     : ws_(std::move(socket)), context_(std::move(context)), token_(std::move(token)), subprotocol_(std::move(subprotocol)) {}
 
-FoxgloveSession::~FoxgloveSession() { context_->foxglove.Leave(this); }
+FoxgloveSession::~FoxgloveSession() {
+  context_->foxglove.Leave(this);
+  for (const auto& [channel, id] : by_channel_) context_->foxglove.CountSubscriber(channel, -1);
+}
 
 void FoxgloveSession::Run(http::request<http::string_body> upgrade) {
   ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
@@ -105,6 +108,7 @@ void FoxgloveSession::Unadvertise(std::vector<std::uint32_t> channels, Bytes mes
       if (const auto it = self->by_channel_.find(c); it != self->by_channel_.end()) {
         self->subscriptions_.erase(it->second);
         self->by_channel_.erase(it);
+        self->context_->foxglove.CountSubscriber(c, -1);
       }
     }
     self->Queue(message);
@@ -181,6 +185,7 @@ void FoxgloveSession::Subscribe(const nlohmann::json& request) {
     } else {
       subscriptions_[*id] = *channel;
       by_channel_[*channel] = *id;
+      context_->foxglove.CountSubscriber(*channel, +1);
       // The channel's current message, so a map shows at once; encoding it may take a while, so
       // off this thread.
       net::post(context_->workers, [self = shared_from_this(), channel = *channel] {
@@ -209,6 +214,7 @@ void FoxgloveSession::Unsubscribe(const nlohmann::json& request) {
     }
     pending_.erase(it->second);
     by_channel_.erase(it->second);
+    context_->foxglove.CountSubscriber(it->second, -1);
     subscriptions_.erase(it);
   }
 }

@@ -38,7 +38,7 @@ void FoxgloveState::Changed(FoxgloveTopic t, std::uint64_t ns) {
 }
 
 std::vector<FoxgloveMessage> FoxgloveState::Apply(const LiveFrame& f, std::uint64_t ns, Clock::time_point now,
-                                                  bool encode) {
+                                                  const Listening& listening) {
   if (f.map && (!f.tiles.empty() || !map_)) {
     map_ = f.map;
     Changed(FoxgloveTopic::kMap, ns);
@@ -72,19 +72,21 @@ std::vector<FoxgloveMessage> FoxgloveState::Apply(const LiveFrame& f, std::uint6
     target_ = f.target;
     Changed(FoxgloveTopic::kExploration, ns);
   }
-  return Due(now, encode);
+  return Due(now, listening);
 }
 
-std::vector<FoxgloveMessage> FoxgloveState::Flush(Clock::time_point now, bool encode) { return Due(now, encode); }
+std::vector<FoxgloveMessage> FoxgloveState::Flush(Clock::time_point now, const Listening& listening) {
+  return Due(now, listening);
+}
 
-std::vector<FoxgloveMessage> FoxgloveState::Due(Clock::time_point now, bool encode) {
+std::vector<FoxgloveMessage> FoxgloveState::Due(Clock::time_point now, const Listening& listening) {
   std::vector<FoxgloveMessage> out;
   for (const FoxgloveTopic t : kFoxgloveTopics) {
     Slot& s = SlotOf(t);
     if (!s.unsent || now - s.last_sent < Period(t)) continue;
     s.unsent = false;
     s.last_sent = now;
-    if (!encode) continue;  // nobody listens: a later subscriber encodes the value then
+    if (!listening[static_cast<std::size_t>(t)]) continue;  // a later subscriber encodes the value then
     if (auto m = Latest(t)) out.push_back(std::move(*m));
   }
   return out;

@@ -28,10 +28,14 @@ class FoxgloveState {
   using Clock = std::chrono::steady_clock;
   explicit FoxgloveState(std::string session_id) : session_id_(std::move(session_id)) {}
 
-  // Takes in a tick. With 'encode' (someone is listening), returns the messages due now.
-  std::vector<FoxgloveMessage> Apply(const LiveFrame& frame, std::uint64_t ns, Clock::time_point now, bool encode);
-  // The held-back messages that are due at 'now' (with 'encode'; else they are only marked sent).
-  std::vector<FoxgloveMessage> Flush(Clock::time_point now, bool encode);
+  // Which topics someone subscribes to: only those are encoded as they change.
+  using Listening = std::array<bool, kFoxgloveTopics.size()>;
+
+  // Takes in a tick; returns the messages of listened-to topics that are due now.
+  std::vector<FoxgloveMessage> Apply(const LiveFrame& frame, std::uint64_t ns, Clock::time_point now,
+                                     const Listening& listening);
+  // The held-back messages that are due at 'now' (those nobody listens to are only marked sent).
+  std::vector<FoxgloveMessage> Flush(Clock::time_point now, const Listening& listening);
   // When the next held-back message is due; nullopt if none waits.
   std::optional<Clock::time_point> NextDue() const;
   // The topic's current message (encoded now if it changed since), or nullopt before the first.
@@ -51,7 +55,7 @@ class FoxgloveState {
   Slot& SlotOf(FoxgloveTopic t) { return slots_[static_cast<std::size_t>(t)]; }
   void Changed(FoxgloveTopic t, std::uint64_t ns);
   Bytes Encode(FoxgloveTopic t) const;
-  std::vector<FoxgloveMessage> Due(Clock::time_point now, bool encode);
+  std::vector<FoxgloveMessage> Due(Clock::time_point now, const Listening& listening);
 
   std::string session_id_;
   std::array<Slot, kFoxgloveTopics.size()> slots_;
