@@ -158,7 +158,7 @@ TEST(FoxgloveState, TheMapGoesOutAtMostOncePerPeriodAndTheLastChangeFollows) {
   ASSERT_TRUE(state.NextDue().has_value());
   EXPECT_EQ(*state.NextDue(), t0 + FoxgloveState::Period(FoxgloveTopic::kMap));
   EXPECT_TRUE(state.Flush(t0 + std::chrono::milliseconds(500), kAll).empty());
-  const auto flushed = state.Flush(t0 + std::chrono::seconds(1), kAll);
+  const auto flushed = state.Flush(t0 + FoxgloveState::Period(FoxgloveTopic::kMap), kAll);
   ASSERT_EQ(flushed.size(), 1u);
   EXPECT_EQ(flushed[0].topic, FoxgloveTopic::kMap);
   const auto grid = nlohmann::json::parse(*flushed[0].payload);

@@ -29,7 +29,7 @@ inline constexpr const char* kFoxgloveMapFrame = "map";
 // Grids are coarsened (by a whole factor) to at most this many cells per message: Foxglove has no
 // grid deltas, each message carries the whole map.
 inline constexpr std::size_t kFoxgloveMaxGridCells = 512 * 512;
-inline constexpr std::size_t kFoxgloveMaxPoses = 2000;  // trajectory messages keep every k-th pose
+inline constexpr std::size_t kFoxgloveMaxPoses = 1000;  // trajectory messages keep every k-th pose
 
 struct FoxgloveTopicInfo {
   const char* suffix;       // the topic is "/<session id>/<suffix>"

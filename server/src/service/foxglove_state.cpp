@@ -21,9 +21,9 @@ bool SameTarget(const std::optional<ExplorationTarget>& a, const std::optional<E
 FoxgloveState::Clock::duration FoxgloveState::Period(FoxgloveTopic topic) {
   using std::chrono::milliseconds;
   switch (topic) {
-    case FoxgloveTopic::kMap:
+    case FoxgloveTopic::kMap:  // the whole map each time: ~130 KiB/s for the Intel map (docs/benchmarks.md)
     case FoxgloveTopic::kTrajectory:
-      return milliseconds(1000);
+      return milliseconds(2000);
     case FoxgloveTopic::kParticles:
       return milliseconds(500);
     default:

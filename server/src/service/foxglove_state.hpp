@@ -1,8 +1,8 @@
 #pragma once
 // One running session as Foxglove clients see it: the latest of each topic, encoded once for all
 // clients. Engine ticks bring changes; a topic's message goes out when it changed, and the heavy
-// ones (the whole map, the whole trajectory, the particle cloud) at most once per their period,
-// the last change held back until then. A client that subscribes gets the topic's current message.
+// ones at most once per their period (the whole map and the whole trajectory every 2 s, the
+// particle cloud every 0.5 s), the last change held back until then. A client that subscribes gets the topic's current message.
 #include <array>
 #include <chrono>
 #include <cstdint>
