@@ -130,6 +130,45 @@ constexpr FoxgloveState::Listening kAll = [] {
   return all;
 }();
 
+TEST(FoxgloveCodec, PredictionGridDrawsPredictedWallsOverFreeSpace) {
+  HypothesisRecord a, b;
+  a.psi = 0.83;
+  a.cells = {{10, 20, 0.95f}, {11, 20, 0.12f}};
+  b.psi = 0.9;
+  b.cells = {{11, 20, 0.95f}, {12, 21, 0.12f}};  // a wall where 'a' predicted free space
+  const auto g = nlohmann::json::parse(PredictionPayload({&a, &b}, 0.05, 0));
+  EXPECT_EQ(g["column_count"], 3);
+  EXPECT_EQ(g["cell_stride"], 5);
+  EXPECT_DOUBLE_EQ(g["pose"]["position"]["x"].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(g["pose"]["position"]["y"].get<double>(), 1.0);
+  const std::string data = Base64Decode(g["data"]);
+  ASSERT_EQ(data.size(), 3u * 2u * 5u);
+  const auto byte = [&](int c, int r, int k) { return static_cast<std::uint8_t>(data[(r * 3 + c) * 5 + k]); };
+  EXPECT_EQ(byte(0, 0, 3), 230);  // a's wall
+  EXPECT_EQ(byte(0, 0, 4), 83);   // its psi
+  EXPECT_EQ(byte(1, 0, 3), 230);  // b's wall wins over a's free cell
+  EXPECT_EQ(byte(1, 0, 4), 90);
+  EXPECT_EQ(byte(2, 1, 3), 70);   // free space: a light wash
+  EXPECT_EQ(byte(2, 0, 3), 0);    // nothing predicted
+}
+
+TEST(FoxgloveState, ThePredictionOverlayHoldsOnlyPendingPredictions) {
+  FoxgloveState state("s-1");
+  FoxgloveState::Listening all{};
+  all.fill(true);
+  LiveFrame f;
+  HypothesisRecord h;
+  h.id = 4;
+  h.cells = {{0, 0, 0.95f}};
+  f.hypotheses_changed = {h};
+  state.Apply(f, 1, FoxgloveState::Clock::now(), all);
+  EXPECT_EQ(nlohmann::json::parse(*state.Latest(FoxgloveTopic::kPrediction)->payload)["column_count"], 1);
+  h.status = "confirmed";
+  f.hypotheses_changed = {h};
+  state.Apply(f, 2, FoxgloveState::Clock::now(), all);
+  EXPECT_EQ(nlohmann::json::parse(*state.Latest(FoxgloveTopic::kPrediction)->payload)["column_count"], 0);
+}
+
 LiveFrame Tick(int cells, double x) {
   LiveFrame f;
   auto grid = std::make_shared<OccupancyGrid>(0.05);

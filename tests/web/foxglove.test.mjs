@@ -28,6 +28,7 @@ const kTopics = {
   tf: 'foxglove.FrameTransform',
   stats: 'pslam.Stats',
   exploration: 'foxglove.SceneUpdate',
+  prediction: 'foxglove.Grid',
 };
 
 async function getJson(url, path) {
@@ -265,6 +266,12 @@ describe('Foxglove WebSocket endpoint', { skip }, () => {
       const sub = client.subscribe(channelOf(heard, sessionId, 'trajectory').id);
       const trajectory = await nextMessage(heard, sub, 'the trajectory');
       assert.ok(trajectory.poses.length > 10);
+    // The prediction overlay: a grid in RGBA with Ψ (empty while nothing is pending).
+    const overlay = await nextMessage(heard, client.subscribe(channelOf(heard, sessionId, 'prediction').id), 'the overlay');
+    assert.equal(overlay.cell_stride, 5);
+    assert.deepEqual(overlay.fields.map((f) => f.name), ['red', 'green', 'blue', 'alpha', 'psi']);
+    assert.equal(overlay.row_stride, overlay.column_count * 5);
+    assert.equal(Buffer.from(overlay.data, 'base64').length % Math.max(overlay.row_stride, 1), 0);
     } finally {
       client.close();
     }

@@ -85,6 +85,7 @@ json SceneUpdateSchema() {
 json SchemaOf(FoxgloveTopic topic) {
   switch (topic) {
     case FoxgloveTopic::kMap:
+    case FoxgloveTopic::kPrediction:
       return GridSchema();
     case FoxgloveTopic::kRobot:
       return Object("foxglove.PoseInFrame", {{"timestamp", TimeSchema()}, {"frame_id", {{"type", "string"}}},
@@ -151,6 +152,7 @@ FoxgloveTopicInfo TopicInfo(FoxgloveTopic topic) {
     case FoxgloveTopic::kTransform: return {"tf", "foxglove.FrameTransform"};
     case FoxgloveTopic::kStats: return {"stats", "pslam.Stats"};
     case FoxgloveTopic::kExploration: return {"exploration", "foxglove.SceneUpdate"};
+    case FoxgloveTopic::kPrediction: return {"prediction", "foxglove.Grid"};
   }
   return {"", ""};
 }
@@ -219,6 +221,54 @@ std::string GridPayload(const OccupancyGrid& grid, std::uint64_t ns, std::size_t
                {"pose", {{"position", {{"x", x0}, {"y", y0}, {"z", 0.0}}}, {"orientation", Yaw(0.0)}}},
                {"column_count", columns},
                {"cell_size", {{"x", cell}, {"y", cell}}},
+               {"row_stride", columns * kStride},
+               {"cell_stride", kStride},
+               {"fields", fields},
+               {"data", Base64Encode(data)}});
+}
+
+std::string PredictionPayload(const std::vector<const HypothesisRecord*>& hypotheses, double resolution,
+                              std::uint64_t ns, std::size_t max_cells) {
+  CellBox box;
+  for (const HypothesisRecord* h : hypotheses) {
+    for (const PredictedCell& c : h->cells) box.Extend({c.x, c.y});
+  }
+  int factor = 1;
+  const auto cells = [&](int f) {
+    return static_cast<std::size_t>((box.width() + f - 1) / f) * static_cast<std::size_t>((box.height() + f - 1) / f);
+  };
+  while (!box.empty() && cells(factor) > std::max<std::size_t>(max_cells, 1)) ++factor;
+  const int columns = box.empty() ? 0 : (box.width() + factor - 1) / factor;
+  const int rows = box.empty() ? 0 : (box.height() + factor - 1) / factor;
+  constexpr int kStride = 5;
+  constexpr std::uint8_t kWallAlpha = 230, kFreeAlpha = 70;
+  std::string data(static_cast<std::size_t>(columns) * static_cast<std::size_t>(rows) * kStride, '\0');
+  for (const HypothesisRecord* h : hypotheses) {
+    const auto psi = static_cast<char>(std::clamp(std::lround(h->psi * 100.0), 0L, 100L));
+    for (const PredictedCell& c : h->cells) {
+      const bool wall = c.occupancy >= 0.5f;
+      const std::size_t at = (static_cast<std::size_t>((c.y - box.min.y()) / factor) * static_cast<std::size_t>(columns) +
+                              static_cast<std::size_t>((c.x - box.min.x()) / factor)) * kStride;
+      if (static_cast<std::uint8_t>(data[at + 3]) >= (wall ? kWallAlpha : kFreeAlpha)) continue;  // a wall wins
+      data[at] = static_cast<char>(wall ? 240 : 90);
+      data[at + 1] = static_cast<char>(wall ? 90 : 170);
+      data[at + 2] = static_cast<char>(wall ? 30 : 255);
+      data[at + 3] = static_cast<char>(wall ? kWallAlpha : kFreeAlpha);
+      data[at + 4] = psi;
+    }
+  }
+  constexpr int kUint8 = 1;  // foxglove.NumericType
+  const json fields = json::array({{{"name", "red"}, {"offset", 0}, {"type", kUint8}},
+                                   {{"name", "green"}, {"offset", 1}, {"type", kUint8}},
+                                   {{"name", "blue"}, {"offset", 2}, {"type", kUint8}},
+                                   {{"name", "alpha"}, {"offset", 3}, {"type", kUint8}},
+                                   {{"name", "psi"}, {"offset", 4}, {"type", kUint8}}});
+  const double x0 = box.empty() ? 0.0 : box.min.x() * resolution, y0 = box.empty() ? 0.0 : box.min.y() * resolution;
+  return Dump({{"timestamp", Time(ns)},
+               {"frame_id", kFoxgloveMapFrame},
+               {"pose", {{"position", {{"x", x0}, {"y", y0}, {"z", 0.01}}}, {"orientation", Yaw(0.0)}}},  // above the map
+               {"column_count", columns},
+               {"cell_size", {{"x", resolution * factor}, {"y", resolution * factor}}},
                {"row_stride", columns * kStride},
                {"cell_stride", kStride},
                {"fields", fields},

@@ -19,11 +19,14 @@
 
 namespace pslam::server {
 
-enum class FoxgloveTopic { kMap, kRobot, kScan, kTrajectory, kParticles, kTransform, kStats, kExploration };
+enum class FoxgloveTopic {
+  kMap, kRobot, kScan, kTrajectory, kParticles, kTransform, kStats, kExploration, kPrediction
+};
 inline constexpr std::array kFoxgloveTopics = {FoxgloveTopic::kMap,        FoxgloveTopic::kRobot,
                                                FoxgloveTopic::kScan,       FoxgloveTopic::kTrajectory,
                                                FoxgloveTopic::kParticles,  FoxgloveTopic::kTransform,
-                                               FoxgloveTopic::kStats,      FoxgloveTopic::kExploration};
+                                               FoxgloveTopic::kStats,      FoxgloveTopic::kExploration,
+                                               FoxgloveTopic::kPrediction};
 
 inline constexpr const char* kFoxgloveMapFrame = "map";
 // Grids are coarsened (by a whole factor) to at most this many cells per message: Foxglove has no
@@ -53,6 +56,11 @@ std::array<std::uint8_t, kFoxgloveMessageHeader> MessageDataHeader(std::uint32_t
 // unknown: the live view's tile encoding), then a grey shade as red, green and blue, then alpha
 // (0 for unknown), so the panel draws it as a map without settings.
 std::string GridPayload(const OccupancyGrid& grid, std::uint64_t ns, std::size_t max_cells = kFoxgloveMaxGridCells);
+// foxglove.Grid of the pending predictions' cells over their bounding box, coarsened like the map
+// (a predicted wall wins its block): RGBA, walls orange-red and opaque, predicted free space a light
+// blue wash, unpredicted cells transparent; "psi" (u8, offset 4) is the prediction's Ψ in percent.
+std::string PredictionPayload(const std::vector<const HypothesisRecord*>& hypotheses, double resolution,
+                              std::uint64_t ns, std::size_t max_cells = kFoxgloveMaxGridCells);
 std::string PoseInFramePayload(const Pose2D& pose, std::uint64_t ns);
 std::string TransformPayload(const std::string& session_id, const Pose2D& robot, std::uint64_t ns);
 // The scan in the map frame: its origin is the sensor's pose, 'robot' * the scan's sensor offset.

@@ -21,8 +21,9 @@ bool SameTarget(const std::optional<ExplorationTarget>& a, const std::optional<E
 FoxgloveState::Clock::duration FoxgloveState::Period(FoxgloveTopic topic) {
   using std::chrono::milliseconds;
   switch (topic) {
-    case FoxgloveTopic::kMap:  // the whole map each time: ~130 KiB/s for the Intel map (docs/benchmarks.md)
+    case FoxgloveTopic::kMap:  // the whole map each time (docs/benchmarks.md)
     case FoxgloveTopic::kTrajectory:
+    case FoxgloveTopic::kPrediction:
       return milliseconds(2000);
     case FoxgloveTopic::kParticles:
       return milliseconds(500);
@@ -65,6 +66,19 @@ std::vector<FoxgloveMessage> FoxgloveState::Apply(const LiveFrame& f, std::uint6
     particles_ = f.particles;
     Changed(FoxgloveTopic::kParticles, ns);
   }
+  resolution_ = f.resolution;
+  bool predictions_changed = false;
+  for (const HypothesisRecord& h : f.hypotheses_changed) {
+    // Only pending predictions are drawn: the others are mapped by now, or were never checked.
+    predictions_changed = predictions_changed || h.status == "pending" || pending_.count(h.id);
+    if (h.status == "pending") {
+      pending_[h.id] = h;
+    } else {
+      pending_.erase(h.id);
+    }
+  }
+  for (const std::int64_t id : f.hypotheses_removed) predictions_changed = pending_.erase(id) > 0 || predictions_changed;
+  if (predictions_changed || !SlotOf(FoxgloveTopic::kPrediction).has_data) Changed(FoxgloveTopic::kPrediction, ns);
   stats_ = f.stats;
   if (f.send_stats) Changed(FoxgloveTopic::kStats, ns);
   if (f.frontiers != frontiers_ || !SameTarget(f.target, target_) || !SlotOf(FoxgloveTopic::kExploration).has_data) {
@@ -132,6 +146,11 @@ Bytes FoxgloveState::Encode(FoxgloveTopic t) const {
       return MakeBytes(StatsPayload(stats_));
     case FoxgloveTopic::kExploration:
       return MakeBytes(ExplorationPayload(frontiers_, target_, ns));
+    case FoxgloveTopic::kPrediction: {
+      std::vector<const HypothesisRecord*> pending;
+      for (const auto& [id, h] : pending_) pending.push_back(&h);
+      return MakeBytes(PredictionPayload(pending, resolution_, ns));
+    }
   }
   return MakeBytes("{}");
 }

@@ -1,11 +1,13 @@
 #pragma once
 // One running session as Foxglove clients see it: the latest of each topic, encoded once for all
 // clients. Engine ticks bring changes; a topic's message goes out when it changed, and the heavy
-// ones at most once per their period (the whole map and the whole trajectory every 2 s, the
-// particle cloud every 0.5 s), the last change held back until then. A client that subscribes gets the topic's current message.
+// ones at most once per their period (the whole map, the whole trajectory and the prediction
+// overlay every 2 s, the particle cloud every 0.5 s), the last change held back until then. A
+// client that subscribes gets the topic's current message.
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -70,6 +72,8 @@ class FoxgloveState {
   EngineStats stats_;
   std::vector<std::array<double, 2>> frontiers_;
   std::optional<ExplorationTarget> target_;
+  double resolution_ = 0.05;
+  std::map<std::int64_t, HypothesisRecord> pending_;  // pending predictions, with their cells
 };
 
 }  // namespace pslam::server
