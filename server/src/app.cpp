@@ -36,7 +36,8 @@ Result<std::unique_ptr<App>> App::Create(ServerOptions options) {
   app->replay_ = std::make_unique<ReplayService>(*app->mapping_, o.replay_dir);
 
   app->context_ = std::make_shared<ServerContext>(o.net, TokenAuth(o.agent_tokens, o.viewer_tokens),
-                                                  StaticFiles(o.web_dir), *app->mapping_, app->workers_);
+                                                  StaticFiles(o.web_dir), *app->mapping_, app->workers_,
+                                                  app->ioc_.get_executor());
   ServerContext* context = app->context_.get();
   app->mapping_->SetLiveSinks(
       [context](const std::string& id, std::shared_ptr<const LiveFrame> frame) {

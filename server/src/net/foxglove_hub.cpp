@@ -106,7 +106,7 @@ void FoxgloveHub::ArmFlush(const std::shared_ptr<Session>& session) {
   session->timer_armed = true;
   session->timer.expires_at(*due);
   session->timer.async_wait([this, session](beast::error_code ec) {
-    if (!ec) OnFlush(session);
+    if (!ec) net::post(work_, [this, session] { OnFlush(session); });
   });
 }
 

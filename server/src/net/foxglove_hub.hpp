@@ -34,9 +34,10 @@ class FoxgloveViewer {
 
 class FoxgloveHub {
  public:
-  // 'timers' runs the flushes of held-back messages (a session that went quiet still sends its
-  // last map).
-  explicit FoxgloveHub(net::any_io_executor timers) : timers_(std::move(timers)) {}
+  // Held-back messages are flushed when due (a session that went quiet still sends its last map):
+  // the timers wait on 'io' (the network threads, which outlive every socket and hub), the
+  // encoding runs on 'work'.
+  FoxgloveHub(net::any_io_executor io, net::any_io_executor work) : timers_(std::move(io)), work_(std::move(work)) {}
 
   void Publish(const std::string& session_id, const LiveFrame& frame);
   void End(const std::string& session_id);
@@ -70,6 +71,7 @@ class FoxgloveHub {
   void OnFlush(const std::shared_ptr<Session>& session);
 
   net::any_io_executor timers_;
+  net::any_io_executor work_;
   std::mutex mutex_;
   std::map<std::string, std::shared_ptr<Session>> sessions_;
   std::map<std::uint32_t, std::shared_ptr<Session>> by_channel_;  // first channel of each session

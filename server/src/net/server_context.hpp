@@ -46,11 +46,11 @@ class Closable {
 class ServerContext {
  public:
   ServerContext(NetLimits limits, TokenAuth auth, StaticFiles files, MappingService& mapping,
-                net::thread_pool& workers)
+                net::thread_pool& workers, net::any_io_executor io)
       : limits(limits),
         auth(std::move(auth)),
         files(std::move(files)),
-        foxglove(workers.get_executor()),
+        foxglove(std::move(io), workers.get_executor()),
         mapping(mapping),
         workers(workers) {}
 
