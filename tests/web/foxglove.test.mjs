@@ -128,6 +128,23 @@ describe('Foxglove WebSocket endpoint', { skip }, () => {
     await assert.rejects(connect(server.port, ['some.other.v1']).opened, /HTTP 400/);
   });
 
+  it('counts against the viewer socket quota', async () => {
+    const small = await startServer({ dataDir: join(dir, 'small'), extraArgs: ['--max-viewer-sockets', '1'] });
+    try {
+      const first = connect(small.port, ['foxglove.sdk.v1']);
+      await first.opened;
+      await waitFor('serverInfo', () => first.heard.serverInfo);
+      const second = connect(small.port, ['foxglove.sdk.v1']);
+      const closed = await waitFor('the second client refused', () => second.heard.closed);
+      assert.equal(closed.code, 1013);
+      assert.match(closed.reason.toString(), /too many viewer connections/);
+      assert.equal(first.heard.closed, null);
+      first.client.close();
+    } finally {
+      await small.stop();
+    }
+  });
+
   it('advertises a session that starts, with JSON channels in well-known schemas', async () => {
     const { heard, ws } = early;
     assert.equal(ws.protocol, 'foxglove.websocket.v1');
