@@ -69,5 +69,15 @@ TEST(Resampling, SystematicResamplingKeepsCountsProportionalToWeights) {
   EXPECT_EQ(std::accumulate(counts.begin(), counts.end(), 0), 5);
 }
 
+TEST(Resampling, SystematicResamplingDrawsAnyNumberOfSlots) {
+  std::mt19937_64 rng(11);
+  const std::vector<double> w = {0.5, 0.25, 0.25, 0.0};
+  std::vector<int> counts(4, 0);
+  for (int i : SystematicResample(w, rng, 8)) ++counts[static_cast<std::size_t>(i)];
+  EXPECT_EQ(counts, (std::vector<int>{4, 2, 2, 0}));  // 8 w exactly: a comb of 8 teeth
+  EXPECT_EQ(SystematicResample(w, rng, 2).size(), 2u);
+  EXPECT_TRUE(SystematicResample(w, rng, 0).empty());
+}
+
 }  // namespace
 }  // namespace pslam

@@ -21,15 +21,16 @@ double EffectiveSampleSize(const std::vector<double>& weights) {
   return s > 0.0 ? 1.0 / s : 0.0;
 }
 
-std::vector<int> SystematicResample(const std::vector<double>& weights, std::mt19937_64& rng) {
+std::vector<int> SystematicResample(const std::vector<double>& weights, std::mt19937_64& rng, int count) {
   const int n = static_cast<int>(weights.size());
-  std::vector<int> picks(static_cast<std::size_t>(n));
-  if (n == 0) return picks;
-  const double step = 1.0 / n;
+  const int slots = count < 0 ? n : count;
+  std::vector<int> picks(static_cast<std::size_t>(n == 0 ? 0 : slots));
+  if (n == 0 || slots == 0) return picks;
+  const double step = 1.0 / slots;
   double u = std::uniform_real_distribution<double>(0.0, step)(rng);
   double cumulative = weights[0];
   int i = 0;
-  for (int slot = 0; slot < n; ++slot, u += step) {
+  for (int slot = 0; slot < slots; ++slot, u += step) {
     while (u > cumulative && i < n - 1) cumulative += weights[static_cast<std::size_t>(++i)];
     picks[static_cast<std::size_t>(slot)] = i;
   }
