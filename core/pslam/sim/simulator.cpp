@@ -37,6 +37,14 @@ Simulator::Simulator(World world, const Pose2D& start, const SimulatorOptions& o
   }
 }
 
+void Simulator::Teleport(const Pose2D& pose) {
+  if (!world_.IsDiscFree(pose.translation(), options_.drive.robot_radius)) {
+    throw std::invalid_argument("teleport target is not in free space");
+  }
+  true_pose_ = pose;
+  velocity_ = command_ = Twist{};
+}
+
 void Simulator::SetCommand(const Twist& command) { command_ = ClampToSpeedLimits(command, options_.drive); }
 
 StepResult Simulator::Step(double dt) {

@@ -59,6 +59,11 @@ class Simulator {
   // (zeroed), and the result says collided.
   StepResult Step(double dt);
 
+  // Carries the robot to 'pose' at standstill, as when someone picks it up: odometry does not see
+  // it move (the kidnapped robot problem). Throws std::invalid_argument when the robot's disc at
+  // 'pose' is not entirely in free space.
+  void Teleport(const Pose2D& pose);
+
   double time() const { return time_; }
   const Pose2D& true_pose() const { return true_pose_; }  // ground truth, for tests and experiments
   const Pose2D& odometry_pose() const { return odometry_.pose(); }
