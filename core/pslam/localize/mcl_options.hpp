@@ -1,0 +1,83 @@
+#pragma once
+// Every tunable of Monte Carlo localization, with its default. Names and defaults follow ROS AMCL
+// where it has the same knob (min/max particles, kld_err, kld_z, update_min_d/a, recovery alphas,
+// laser_likelihood_max_dist), so that settings carry over.
+#include <cstdint>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "pslam/filter/motion_model.hpp"
+#include "pslam/sensor/scan_points.hpp"
+
+namespace pslam {
+
+// Likelihood-field sensor model (Thrun, Burgard, Fox, Probabilistic Robotics, 6.4): an endpoint
+// at distance d from the nearest occupied cell scores z_hit * exp(-d^2 / 2 sigma^2) + z_rand.
+// Distances are capped at max_distance; endpoints off the map score as that far.
+struct LikelihoodFieldOptions {
+  double sigma = 0.15;               // m
+  double z_hit = 0.9;
+  double z_rand = 0.1;               // beams the map does not explain (people, clutter)
+  double max_distance = 2.0;         // m
+  double occupied_probability = 0.65;  // a map cell at or above this is an obstacle (map_server's threshold)
+  int max_beams = 60;                // endpoints scored per scan, evenly spread over the returns
+  // Scan log-likelihoods are divided by this: beams are not independent (as in RbpfOptions).
+  double temperature = 5.0;
+};
+
+struct MclOptions {
+  // KLD sampling (Fox, IJRR 2003): after each resampling the particle count is the smallest that
+  // keeps the KL divergence between the sample-based and the true posterior below kld_err, given
+  // how many histogram bins the posterior occupies. kld_z is the standard normal quantile of the
+  // confidence, used as given as AMCL does (its default 0.99 is the quantile, not the confidence).
+  // Global localization starts with max_particles: the more, the likelier one lands near the
+  // true pose before the cloud settles on a look-alike place (5000, AMCL's default, often did not
+  // in the shipped worlds; 20000 cost 5 ms per update while they last).
+  int min_particles = 500;
+  int max_particles = 20000;
+  double kld_err = 0.01;
+  double kld_z = 0.99;
+  double bin_size_xy = 0.5;                          // m
+  double bin_size_theta = 10.0 * std::numbers::pi / 180.0;  // rad
+
+  // The filter updates once odometry moved by either threshold since the last update.
+  double update_min_d = 0.2;                         // m
+  double update_min_a = std::numbers::pi / 6.0;      // rad
+  double resample_threshold = 0.5;                   // resample when N_eff < threshold * N
+
+  // Augmented MCL (Probabilistic Robotics, 8.3.5): short- and long-term averages of the
+  // measurement likelihood; when the short one falls below the long one, that share of the
+  // resampled particles is drawn at random over the free space (recovery from kidnapping).
+  // 0 / 0 turns injection off.
+  double recovery_alpha_slow = 0.001;
+  double recovery_alpha_fast = 0.1;
+
+  // Raw wheel odometry is far noisier than the scan-matched motion the mapping filter samples.
+  MotionNoise motion{.rotation_per_rotation = 0.1,
+                     .rotation_per_translation = 0.05,
+                     .translation_per_translation = 0.1,
+                     .translation_per_rotation = 0.02};
+  LikelihoodFieldOptions likelihood;
+  ScanPointsOptions points{.max_usable_range = 20.0, .no_return_free_range = 0.0, .min_point_spacing = 0.0};
+
+  // "Localized": the heaviest cluster of particles holds at least this share of the weight and
+  // spreads less than these (standard deviations).
+  double localized_weight = 0.8;
+  double localized_position_std = 0.15;              // m, along the cluster's widest direction
+  double localized_heading_std = 5.0 * std::numbers::pi / 180.0;  // rad
+
+  std::uint64_t seed = 1;
+};
+
+// Sets one option by its dotted name (e.g. "min_particles", "likelihood.sigma") from text. Returns
+// an empty string on success, or what is wrong; unknown names are rejected.
+std::string SetMclOption(MclOptions& options, const std::string& name, const std::string& value);
+
+// Names of every option SetMclOption accepts, for help texts.
+std::vector<std::string> MclOptionNames();
+
+// What is inconsistent in the options (e.g. min_particles > max_particles), or empty.
+std::string ValidateMclOptions(const MclOptions& options);
+
+}  // namespace pslam

@@ -1,0 +1,218 @@
+#include "pslam/localize/monte_carlo_localizer.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "pslam/common/random.hpp"
+#include "pslam/filter/motion_model.hpp"
+#include "pslam/filter/resampling.hpp"
+#include "pslam/sensor/scan_points.hpp"
+
+namespace pslam {
+namespace {
+
+// A loaded map's free cells read 0.12, a built map's well under 0.5; a cell hardly ever seen stays
+// near 0.5 and is no place to put the robot.
+constexpr float kFreeProbability = 0.25f;
+
+// Separate random streams per purpose, all derived from (seed, step, index).
+enum Stream : std::uint64_t { kStart = 1, kMotion = 2, kResample = 3, kInjection = 4 };
+
+std::uint64_t StreamIndex(Stream s, std::uint64_t index) { return (index << 3) | s; }
+
+// The endpoints scored: at most max_beams, evenly spread over the returns.
+std::vector<Eigen::Vector2f> SelectBeams(std::vector<Eigen::Vector2f> hits, int max_beams) {
+  const std::size_t n = hits.size(), m = static_cast<std::size_t>(max_beams);
+  if (n <= m) return hits;
+  std::vector<Eigen::Vector2f> out(m);
+  for (std::size_t i = 0; i < m; ++i) out[i] = hits[i * n / m];
+  return out;
+}
+
+double LogAddExp(double a, double b) {
+  const double top = std::max(a, b);
+  if (top == -INFINITY) return top;
+  return top + std::log(std::exp(a - top) + std::exp(b - top));
+}
+
+// The running average w += alpha (w_avg - w), in log space.
+double BlendLog(double log_w, double log_avg, double alpha) {
+  if (alpha <= 0.0) return log_w;
+  if (alpha >= 1.0) return log_avg;
+  return LogAddExp(std::log1p(-alpha) + log_w, std::log(alpha) + log_avg);
+}
+
+bool MovedEnough(const Pose2D& delta, const MclOptions& o) {
+  return std::hypot(delta.x, delta.y) >= o.update_min_d || std::abs(delta.theta) >= o.update_min_a;
+}
+
+}  // namespace
+
+MonteCarloLocalizer::MonteCarloLocalizer(const OccupancyGrid& map, const MclOptions& options)
+    : options_(options),
+      field_([&]() -> const OccupancyGrid& {
+        if (const std::string problem = ValidateMclOptions(options); !problem.empty())
+          throw std::invalid_argument(problem);
+        return map;
+      }(), options.likelihood),
+      resolution_(map.resolution()) {
+  const CellBox known = map.KnownBounds();
+  for (int y = known.min.y(); y <= known.max.y(); ++y) {
+    for (int x = known.min.x(); x <= known.max.x(); ++x) {
+      const OccupancyGrid::Cell c = map.At(x, y);
+      if (c != OccupancyGrid::kUnknown && CellProbability(c) < kFreeProbability) free_cells_.emplace_back(x, y);
+    }
+  }
+  if (free_cells_.empty()) throw std::invalid_argument("the map has no free cell to localize in");
+}
+
+Pose2D MonteCarloLocalizer::RandomFreePose(std::mt19937_64& rng) const {
+  std::uniform_int_distribution<std::size_t> pick(0, free_cells_.size() - 1);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const Eigen::Vector2i c = free_cells_[pick(rng)];
+  return {(c.x() + unit(rng)) * resolution_, (c.y() + unit(rng)) * resolution_,
+          (2.0 * unit(rng) - 1.0) * std::numbers::pi};
+}
+
+void MonteCarloLocalizer::Reset(std::vector<Pose2D> poses) {
+  poses_ = std::move(poses);
+  log_weights_.assign(poses_.size(), 0.0);
+  initialized_ = true;
+  force_update_ = true;
+  have_averages_ = false;
+  ++step_;
+  Summarize();
+}
+
+void MonteCarloLocalizer::SetPose(const Pose2D& mean, const Eigen::Matrix3d& covariance) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+  if (!covariance.allFinite() || !mean.translation().allFinite() || !std::isfinite(mean.theta) ||
+      (covariance - covariance.transpose()).cwiseAbs().maxCoeff() > 1e-9 || eigen.eigenvalues().minCoeff() < -1e-12) {
+    throw std::invalid_argument("the initial pose needs a finite mean and a symmetric positive semi-definite covariance");
+  }
+  const Eigen::Matrix3d root =
+      eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * eigen.eigenvectors().transpose();
+  std::vector<Pose2D> poses(static_cast<std::size_t>(options_.max_particles));
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    std::mt19937_64 rng = MakeStream(options_.seed, step_, StreamIndex(kStart, i));
+    const Eigen::Vector3d z(gauss(rng), gauss(rng), gauss(rng));
+    const Eigen::Vector3d d = root * z;
+    poses[i] = Pose2D(mean.x + d.x(), mean.y + d.y(), mean.theta + d.z());
+  }
+  Reset(std::move(poses));
+}
+
+void MonteCarloLocalizer::StartGlobal() {
+  std::vector<Pose2D> poses(static_cast<std::size_t>(options_.max_particles));
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    std::mt19937_64 rng = MakeStream(options_.seed, step_, StreamIndex(kStart, i));
+    poses[i] = RandomFreePose(rng);
+  }
+  Reset(std::move(poses));
+}
+
+std::vector<double> MonteCarloLocalizer::weights() const { return NormalizeLogWeights(log_weights_); }
+
+void MonteCarloLocalizer::Weigh(const std::vector<Eigen::Vector2f>& points) {
+  const std::vector<double> prior = weights();
+  const double inv_temperature = 1.0 / options_.likelihood.temperature;
+  double log_avg = -INFINITY;  // log of sum_i prior_i * p(z | x_i): how well the cloud explains z
+  for (std::size_t i = 0; i < poses_.size(); ++i) {
+    const double log_likelihood = field_.LogLikelihood(points, poses_[i]) * inv_temperature;
+    log_weights_[i] += log_likelihood;
+    if (prior[i] > 0.0) log_avg = LogAddExp(log_avg, std::log(prior[i]) + log_likelihood);
+  }
+  if (!have_averages_) {
+    log_w_slow_ = log_w_fast_ = log_avg;
+    have_averages_ = true;
+  } else {
+    log_w_slow_ = BlendLog(log_w_slow_, log_avg, options_.recovery_alpha_slow);
+    log_w_fast_ = BlendLog(log_w_fast_, log_avg, options_.recovery_alpha_fast);
+  }
+}
+
+void MonteCarloLocalizer::Resample() {
+  const std::vector<double> w = weights();
+  std::mt19937_64 rng = MakeStream(options_.seed, step_, StreamIndex(kResample, 0));
+  // KLD: the bins a full-size draw from the posterior occupies set the count. Drawing max_particles
+  // first and counting afterwards, rather than stopping a draw early as Fox does, keeps the draw
+  // low-variance (a systematic comb cut short would cover only part of the weights).
+  const std::vector<int> full = SystematicResample(w, rng, options_.max_particles);
+  std::vector<Pose2D> drawn(full.size());
+  for (std::size_t i = 0; i < full.size(); ++i) drawn[i] = poses_[static_cast<std::size_t>(full[i])];
+  const PoseBinning binning{options_.bin_size_xy, options_.bin_size_theta};
+  const int count = KldSampleCount(CountOccupiedBins(drawn, binning), options_.kld_err, options_.kld_z,
+                                   options_.min_particles, options_.max_particles);
+  const std::vector<int> picks = SystematicResample(w, rng, count);
+  const double inject = last_.injection_probability;
+  std::vector<Pose2D> next(picks.size());
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int injected = 0;
+  for (std::size_t i = 0; i < picks.size(); ++i) {
+    next[i] = poses_[static_cast<std::size_t>(picks[i])];
+    if (inject <= 0.0) continue;
+    std::mt19937_64 slot_rng = MakeStream(options_.seed, step_, StreamIndex(kInjection, i));
+    if (unit(slot_rng) >= inject) continue;
+    next[i] = RandomFreePose(slot_rng);
+    ++injected;
+  }
+  poses_ = std::move(next);
+  log_weights_.assign(poses_.size(), 0.0);
+  last_.resampled = true;
+  last_.injected = injected;
+  ++stats_.resamplings;
+  stats_.injected += injected;
+}
+
+void MonteCarloLocalizer::Summarize() {
+  const std::vector<double> w = weights();
+  const std::vector<ParticleCluster> clusters =
+      ClusterParticles(poses_, w, PoseBinning{options_.bin_size_xy, options_.bin_size_theta});
+  last_.clusters = static_cast<int>(clusters.size());
+  last_.cluster = clusters.empty() ? ParticleCluster{} : clusters.front();
+  last_.estimate = last_.cluster.mean;
+  last_.particles = static_cast<int>(poses_.size());
+  stats_.min_particles_seen = stats_.min_particles_seen == 0 ? last_.particles : std::min(stats_.min_particles_seen, last_.particles);
+  stats_.max_particles_seen = std::max(stats_.max_particles_seen, last_.particles);
+  last_.localized = last_.cluster.weight >= options_.localized_weight &&
+                    last_.cluster.position_std <= options_.localized_position_std &&
+                    last_.cluster.heading_std <= options_.localized_heading_std;
+}
+
+MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
+  if (!initialized_) StartGlobal();
+  ++stats_.scans;
+  last_.updated = last_.resampled = false;
+  last_.injected = 0;
+  if (!have_odometry_) {
+    update_odometry_ = scan.odometry;
+    have_odometry_ = true;
+  }
+  const Pose2D delta = Between(update_odometry_, scan.odometry);
+  if (!force_update_ && !MovedEnough(delta, options_)) {
+    last_.estimate = last_.cluster.mean * delta;  // between updates, odometry carries the estimate
+    return last_;
+  }
+  ++step_;
+  for (std::size_t i = 0; i < poses_.size(); ++i) {
+    std::mt19937_64 rng = MakeStream(options_.seed, step_, StreamIndex(kMotion, i));
+    poses_[i] = poses_[i] * SampleMotion(delta, options_.motion, rng);
+  }
+  update_odometry_ = scan.odometry;
+  force_update_ = false;
+  const std::vector<Eigen::Vector2f> points = SelectBeams(ToScanPoints(scan, options_.points).hits, options_.likelihood.max_beams);
+  if (!points.empty()) Weigh(points);
+  last_.updated = true;
+  last_.effective_sample_size = EffectiveSampleSize(weights());
+  last_.injection_probability = have_averages_ ? std::max(0.0, 1.0 - std::exp(log_w_fast_ - log_w_slow_)) : 0.0;
+  if (last_.effective_sample_size < options_.resample_threshold * static_cast<double>(poses_.size())) Resample();
+  ++stats_.updates;
+  Summarize();
+  return last_;
+}
+
+}  // namespace pslam

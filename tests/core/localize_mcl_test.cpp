@@ -1,0 +1,187 @@
+// Monte Carlo localization on the shipped worlds: tracking from a known start, global
+// localization, recovery from kidnapping, determinism, and the pieces (KLD bound, likelihood
+// field, clusters, bad input).
+#include <gtest/gtest.h>
+
+#include <numbers>
+#include <stdexcept>
+
+#include "pslam/experiment/localization_tour.hpp"
+#include "pslam/io/map_io.hpp"
+#include "pslam/localize/likelihood_field.hpp"
+#include "pslam/localize/monte_carlo_localizer.hpp"
+#include "pslam/localize/particle_clusters.hpp"
+#include "pslam/sim/world_file.hpp"
+#include "pslam/sim/world_painter.hpp"
+
+namespace pslam {
+namespace {
+
+constexpr double kDegree = std::numbers::pi / 180.0;
+
+struct ShippedMap {
+  OccupancyGrid map;
+  World world;
+  Pose2D start;
+};
+
+ShippedMap Load(const std::string& name) {
+  const std::string yaml = std::string(PSLAM_SOURCE_DIR) + "/core/worlds/" + name + ".yaml";
+  OccupancyGrid map = LoadMap(yaml);
+  World world = World::FromGrid(map);
+  return {std::move(map), std::move(world), ReadStartPose(yaml).value()};
+}
+
+// A free pose with room around it, far from 'from': where the robot is carried.
+Pose2D FarFreePose(const World& world, const Pose2D& from) {
+  const Eigen::AlignedBox2d extent = world.Extent();
+  for (double y = extent.max().y() - 2.0; y > extent.min().y(); y -= 0.5) {
+    for (double x = extent.max().x() - 2.0; x > extent.min().x(); x -= 0.5) {
+      if (world.IsDiscFree({x, y}, 0.6) && std::hypot(x - from.x, y - from.y) > 10.0) return {x, y, -2.0};
+    }
+  }
+  ADD_FAILURE() << "no free pose";
+  return from;
+}
+
+TEST(LocalizeMclTest, TracksFromAKnownStartInTheOffice) {
+  const ShippedMap office = Load("office");
+  LocalizationTourOptions options;
+  options.distance = 40.0;
+  const LocalizationTourResult run = RunLocalizationTour(office.world, office.map, office.start, options);
+  ASSERT_GE(run.distance, 40.0);
+  const TrackingError error = MeasureTracking(run.samples, 2.0);
+  EXPECT_LT(error.mean_position, 0.08);
+  EXPECT_LT(error.mean_heading, 2.0 * kDegree);
+  EXPECT_LT(error.max_position, 0.3);
+  EXPECT_TRUE(run.samples.back().localized);
+  // KLD: a tight cloud needs far fewer than the particles it started with.
+  EXPECT_EQ(run.max_particles, options.mcl.max_particles);
+  EXPECT_LT(run.samples.back().particles, options.mcl.max_particles / 2);
+}
+
+TEST(LocalizeMclTest, GlobalLocalizationConvergesWithoutAStartPose) {
+  const ShippedMap room = Load("irregular");
+  LocalizationTourOptions options;
+  options.global = true;
+  options.distance = 30.0;
+  const LocalizationTourResult run = RunLocalizationTour(room.world, room.map, room.start, options);
+  EXPECT_FALSE(run.samples.front().localized);
+  const std::optional<double> converged = ConvergenceDistance(run.samples, 0.2);
+  ASSERT_TRUE(converged.has_value());
+  EXPECT_LT(*converged, 15.0);
+  EXPECT_TRUE(run.samples.back().localized);
+  EXPECT_LT(MeasureTracking(run.samples, *converged).mean_position, 0.1);
+}
+
+TEST(LocalizeMclTest, RecoversAfterTheRobotIsCarriedElsewhere) {
+  const ShippedMap room = Load("irregular");
+  LocalizationTourOptions options;
+  options.distance = 60.0;
+  options.kidnap_after = 15.0;
+  options.kidnap_pose = FarFreePose(room.world, room.start);
+  const LocalizationTourResult run = RunLocalizationTour(room.world, room.map, room.start, options);
+  // The kidnapping: the first scan whose true pose jumped from the one before.
+  std::size_t jump = 1;
+  while (jump < run.samples.size() &&
+         (run.samples[jump].truth.translation() - run.samples[jump - 1].truth.translation()).norm() < 1.0) {
+    ++jump;
+  }
+  ASSERT_LT(jump, run.samples.size());
+  const std::vector<LocalizationSample> before(run.samples.begin(), run.samples.begin() + static_cast<std::ptrdiff_t>(jump));
+  EXPECT_LT(MeasureTracking(before, 2.0).mean_position, 0.1);
+  EXPECT_TRUE(before.back().localized);
+  // Right after the kidnapping the estimate is where the robot was, far from where it is.
+  const LocalizationSample& carried = run.samples[jump];
+  EXPECT_GT((carried.estimate.translation() - carried.truth.translation()).norm(), 5.0);
+  const std::optional<double> recovered = ConvergenceDistance(run.samples, 0.2, options.kidnap_after);
+  ASSERT_TRUE(recovered.has_value());
+  EXPECT_LT(*recovered, 30.0);
+  EXPECT_TRUE(run.samples.back().localized);
+}
+
+TEST(LocalizeMclTest, SameSeedSameEstimates) {
+  const ShippedMap maze = Load("maze");
+  LocalizationTourOptions options;
+  options.distance = 8.0;
+  options.global = true;
+  const LocalizationTourResult a = RunLocalizationTour(maze.world, maze.map, maze.start, options);
+  const LocalizationTourResult b = RunLocalizationTour(maze.world, maze.map, maze.start, options);
+  ASSERT_EQ(a.samples.size(), b.samples.size());
+  for (std::size_t i = 0; i < a.samples.size(); ++i) {
+    EXPECT_EQ(a.samples[i].estimate.x, b.samples[i].estimate.x);
+    EXPECT_EQ(a.samples[i].estimate.y, b.samples[i].estimate.y);
+    EXPECT_EQ(a.samples[i].estimate.theta, b.samples[i].estimate.theta);
+    EXPECT_EQ(a.samples[i].particles, b.samples[i].particles);
+  }
+  options.seed = 2;
+  const LocalizationTourResult c = RunLocalizationTour(maze.world, maze.map, maze.start, options);
+  EXPECT_NE(a.samples.back().estimate.x, c.samples.back().estimate.x);
+}
+
+TEST(LocalizeMclTest, KldBoundGrowsWithTheBinsAndIsClamped) {
+  EXPECT_EQ(KldSampleCount(1, 0.01, 0.99, 100, 5000), 100);
+  const int few = KldSampleCount(10, 0.01, 0.99, 1, 100000);
+  const int many = KldSampleCount(100, 0.01, 0.99, 1, 100000);
+  EXPECT_GT(many, few);
+  // Fox's bound for k = 100, err = 0.01, z = 0.99: (k-1)/(2 err) (1 - 2/(9(k-1)) + sqrt(2/(9(k-1))) z)^3.
+  const double b = 2.0 / (9.0 * 99.0);
+  EXPECT_EQ(many, static_cast<int>(std::ceil(99.0 / 0.02 * std::pow(1.0 - b + std::sqrt(b) * 0.99, 3))));
+  EXPECT_EQ(KldSampleCount(100000, 0.01, 0.99, 500, 5000), 5000);
+}
+
+TEST(LocalizeMclTest, ClustersSeparateDistantGroupsAndWeighThem) {
+  std::vector<Pose2D> poses;
+  std::vector<double> weights;
+  for (int i = 0; i < 10; ++i) {
+    poses.emplace_back(1.0 + 0.01 * i, 1.0, 0.0);
+    weights.push_back(0.07);
+    poses.emplace_back(10.0, 10.0 + 0.01 * i, std::numbers::pi);
+    weights.push_back(0.03);
+  }
+  const std::vector<ParticleCluster> clusters = ClusterParticles(poses, weights, PoseBinning{});
+  ASSERT_EQ(clusters.size(), 2u);
+  EXPECT_NEAR(clusters[0].weight, 0.7, 1e-9);
+  EXPECT_NEAR(clusters[0].mean.x, 1.045, 1e-9);
+  EXPECT_NEAR(clusters[1].mean.y, 10.045, 1e-9);
+  EXPECT_NEAR(std::abs(clusters[1].mean.theta), std::numbers::pi, 1e-9);
+  EXPECT_LT(clusters[0].position_std, 0.05);
+  EXPECT_EQ(CountOccupiedBins(poses, PoseBinning{}), 2);
+}
+
+TEST(LocalizeMclTest, LikelihoodFieldScoresWallsAboveOpenSpace) {
+  const ShippedMap room = Load("irregular");
+  const LikelihoodField field(room.map, LikelihoodFieldOptions{});
+  const double on_wall = field.PointLogLikelihood({-0.05, 5.0});  // the west wall
+  const double near_wall = field.PointLogLikelihood({0.25, 5.0});
+  const double off_map = field.PointLogLikelihood({500.0, 500.0});
+  EXPECT_GT(on_wall, near_wall);
+  EXPECT_GT(near_wall, off_map);
+  EXPECT_FLOAT_EQ(off_map, field.miss_log_likelihood());
+  EXPECT_FLOAT_EQ(field.PointLogLikelihood({1e300, -1e300}), field.miss_log_likelihood());
+}
+
+TEST(LocalizeMclTest, RejectsBadMapsOptionsAndPoses) {
+  const ShippedMap room = Load("irregular");
+  OccupancyGrid empty(0.05);
+  EXPECT_THROW(MonteCarloLocalizer(empty, MclOptions{}), std::invalid_argument);
+  OccupancyGrid no_walls(0.05);
+  for (int x = 0; x < 20; ++x) no_walls.AddLogOdds(x, 0, -2000, -4000, 4000);
+  EXPECT_THROW(MonteCarloLocalizer(no_walls, MclOptions{}), std::invalid_argument);
+  MclOptions inverted;
+  inverted.min_particles = 10;
+  inverted.max_particles = 5;
+  EXPECT_THROW(MonteCarloLocalizer(room.map, inverted), std::invalid_argument);
+  MonteCarloLocalizer mcl(room.map, MclOptions{});
+  EXPECT_THROW(mcl.SetPose(room.start, -Eigen::Matrix3d::Identity()), std::invalid_argument);
+  EXPECT_THROW(mcl.SetPose(Pose2D(std::nan(""), 0.0, 0.0), Eigen::Matrix3d::Identity()), std::invalid_argument);
+  EXPECT_NO_THROW(mcl.SetPose(room.start, Eigen::Matrix3d::Zero()));  // an exact pose is allowed
+  MclOptions named;
+  EXPECT_EQ(SetMclOption(named, "likelihood.sigma", "0.2"), "");
+  EXPECT_EQ(named.likelihood.sigma, 0.2);
+  EXPECT_NE(SetMclOption(named, "likelihood.sigmaa", "0.2"), "");
+  EXPECT_NE(SetMclOption(named, "min_particles", "many"), "");
+}
+
+}  // namespace
+}  // namespace pslam
