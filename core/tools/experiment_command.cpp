@@ -16,6 +16,7 @@ constexpr const char* kUsage =
     "  hypotheses   how right the hypotheses are (office; paper Sec. V-A2, Fig. 10)\n"
     "  particles    P-SLAM vs the plain RBPF on the Intel log: KL of eq. 24 and relative pose error\n"
     "  latency      time of one prediction as the map grows\n"
+    "  localize     Monte Carlo localization of a simulated robot on its world's map\n"
     "Run 'pslam experiment NAME --help' for the options of one.\n";
 
 }  // namespace
@@ -27,6 +28,7 @@ int RunExperimentCommand(const std::vector<std::string>& args) {
   if (name == "hypotheses") return RunHypothesesExperiment(cli);
   if (name == "particles") return RunParticlesExperiment(cli);
   if (name == "latency") return RunLatencyExperiment(cli);
+  if (name == "localize") return RunLocalizeExperiment(cli);
   const bool help = name.empty() || name == "--help" || name == "-h";
   if (!help) std::fprintf(stderr, "unknown experiment '%s'\n", name.c_str());
   std::fprintf(help ? stdout : stderr, "%s", kUsage);

@@ -19,16 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::optional<Pose2D> ParsePose(const std::string& text) {
-  std::istringstream in(text);
-  double x = 0.0, y = 0.0, theta = 0.0;
-  char c1 = 0, c2 = 0;
-  if (!(in >> x >> c1 >> y >> c2 >> theta) || c1 != ',' || c2 != ',') return std::nullopt;
-  in >> std::ws;
-  if (!in.eof()) return std::nullopt;
-  return Pose2D(x, y, theta);
-}
-
 std::string DefaultWorldPath(const std::string& name) {
   const fs::path relative = fs::path("core") / "worlds" / (name + ".yaml");
   if (fs::exists(relative)) return relative.string();
@@ -42,6 +32,16 @@ std::string DefaultWorldPath(const std::string& name) {
 }
 
 }  // namespace
+
+std::optional<Pose2D> ParsePose(const std::string& text) {
+  std::istringstream in(text);
+  double x = 0.0, y = 0.0, theta = 0.0;
+  char c1 = 0, c2 = 0;
+  if (!(in >> x >> c1 >> y >> c2 >> theta) || c1 != ',' || c2 != ',') return std::nullopt;
+  in >> std::ws;
+  if (!in.eof()) return std::nullopt;
+  return Pose2D(x, y, theta);
+}
 
 std::optional<WorldChoice> ChooseWorld(CliArgs& cli, const std::string& default_name) {
   const std::optional<std::string> world_flag = cli.Value("--world");

@@ -20,6 +20,10 @@ int RunExploreExperiment(CliArgs& cli);
 int RunHypothesesExperiment(CliArgs& cli);
 int RunParticlesExperiment(CliArgs& cli);
 int RunLatencyExperiment(CliArgs& cli);
+int RunLocalizeExperiment(CliArgs& cli);
+
+// "X,Y,THETA" (metres, radians); nullopt when malformed.
+std::optional<Pose2D> ParsePose(const std::string& text);
 
 // A world given by --world FILE.yaml (default core/worlds/<default_name>.yaml, looked up from the
 // working directory and then from the executable's ../../), with its start pose from --start

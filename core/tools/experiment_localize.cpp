@@ -1,0 +1,153 @@
+// `pslam experiment localize`: Monte Carlo localization of a simulated robot on its world's map,
+// from a known start (tracking error) and from none (distance to converge), with the CPU time per
+// scan next to the mapping filter's on the same scans.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "experiment_common.hpp"
+#include "pslam/experiment/localization_tour.hpp"
+
+namespace pslam {
+namespace {
+
+constexpr const char* kUsage =
+    "usage: pslam experiment localize [--world FILE.yaml] [--start X,Y,THETA] [--runs N] [--seed S]\n"
+    "                                 [--distance M] [--kidnap-after M --kidnap-pose X,Y,THETA]\n"
+    "                                 [--mapping] [--trace OUT.txt] [--json OUT] [--set NAME=VALUE ...]\n"
+    "  Drives the simulated robot along planned paths to random goals (default world:\n"
+    "  core/worlds/office.yaml) and localizes it on the world's map, once from the start pose given\n"
+    "  with 0.2 m / 0.1 rad of spread (tracking) and once with no pose (global localization), for\n"
+    "  seeds S, S+1, ... --kidnap-after carries the robot to --kidnap-pose after M metres in the\n"
+    "  tracking run. --mapping also runs the mapping filter over the tracking run's scans for its\n"
+    "  CPU time. --trace writes 'distance truth_x truth_y truth_theta x y theta localized particles'\n"
+    "  per scan of the last global run. --set tunes a localization option:\n";
+
+constexpr double kConverged = 0.2;  // m: global localization has converged below this error
+
+void WriteTrace(const std::string& path, const std::vector<LocalizationSample>& samples) {
+  std::ofstream out(path);
+  for (const LocalizationSample& s : samples) {
+    out << s.distance << ' ' << s.truth.x << ' ' << s.truth.y << ' ' << s.truth.theta << ' ' << s.estimate.x << ' '
+        << s.estimate.y << ' ' << s.estimate.theta << ' ' << s.localized << ' ' << s.particles << '\n';
+  }
+  if (!out) throw std::runtime_error("cannot write " + path);
+}
+
+double Mean(const std::vector<double>& v) {
+  double sum = 0.0;
+  for (double x : v) sum += x;
+  return v.empty() ? NAN : sum / static_cast<double>(v.size());
+}
+
+}  // namespace
+
+int RunLocalizeExperiment(CliArgs& cli) {
+  const bool help = cli.Flag("--help");
+  const std::optional<WorldChoice> world = help ? std::nullopt : ChooseWorld(cli, "office");
+  LocalizationTourOptions options;
+  const int runs = cli.Int("--runs", 1);
+  const auto first_seed = static_cast<std::uint64_t>(cli.Int("--seed", 1));
+  options.distance = cli.Double("--distance", options.distance);
+  options.kidnap_after = cli.Double("--kidnap-after", 0.0);
+  if (const auto kidnap = cli.Value("--kidnap-pose")) {
+    const std::optional<Pose2D> pose = ParsePose(*kidnap);
+    if (!pose) cli.AddError("--kidnap-pose needs X,Y,THETA, got '" + *kidnap + "'");
+    else options.kidnap_pose = *pose;
+  }
+  const bool mapping = cli.Flag("--mapping");
+  const std::optional<std::string> trace = cli.Value("--trace");
+  const std::optional<std::string> json_path = cli.Value("--json");
+  for (const std::string& assignment : cli.Values("--set")) {
+    const auto eq = assignment.find('=');
+    const std::string error = eq == std::string::npos ? "--set needs NAME=VALUE, got '" + assignment + "'"
+                                                      : SetMclOption(options.mcl, assignment.substr(0, eq), assignment.substr(eq + 1));
+    if (!error.empty()) cli.AddError(error);
+  }
+  if (help) {
+    std::printf("%s", kUsage);
+    for (const std::string& name : MclOptionNames()) std::printf("  %s\n", name.c_str());
+    return 0;
+  }
+  if (runs < 1) cli.AddError("--runs must be at least 1");
+  if (!cli.ok() || !world) {
+    std::fprintf(stderr, "%s%s", cli.error().c_str(), kUsage);
+    return 2;
+  }
+
+  try {
+    const OccupancyGrid map = world->world.ToGrid();
+    std::vector<double> position, heading, converge, mcl_cpu, map_cpu, recover;
+    int never = 0, unrecovered = 0;
+    std::vector<LocalizationSample> last_global;
+    std::printf("%s, %d run(s) of %.0f m\n", world->path.c_str(), runs, options.distance);
+    for (int r = 0; r < runs; ++r) {
+      options.seed = first_seed + static_cast<std::uint64_t>(r);
+      options.global = false;
+      options.measure_mapping = mapping;
+      const LocalizationTourResult track = RunLocalizationTour(world->world, map, world->start, options);
+      const double track_until = options.kidnap_after > 0.0 ? options.kidnap_after : track.distance + 1.0;
+      std::vector<LocalizationSample> before;
+      for (const LocalizationSample& s : track.samples) {
+        if (s.distance < track_until) before.push_back(s);
+      }
+      const TrackingError e = MeasureTracking(before, 2.0);
+      position.push_back(e.mean_position);
+      heading.push_back(e.mean_heading);
+      mcl_cpu.push_back(track.localizer_cpu_ms_per_scan);
+      if (mapping) map_cpu.push_back(track.mapping_cpu_ms_per_scan);
+      std::printf("seed %llu tracking: %.3f m, %.2f deg mean error (max %.2f m), particles %d..%d, %.2f ms CPU/scan",
+                  static_cast<unsigned long long>(options.seed), e.mean_position, e.mean_heading * 180.0 / std::numbers::pi,
+                  e.max_position, track.min_particles, track.max_particles, track.localizer_cpu_ms_per_scan);
+      if (mapping) std::printf(" (mapping filter %.2f ms)", track.mapping_cpu_ms_per_scan);
+      std::printf("\n");
+      if (options.kidnap_after > 0.0) {
+        const std::optional<double> back = ConvergenceDistance(track.samples, kConverged, options.kidnap_after);
+        if (back) recover.push_back(*back);
+        else ++unrecovered;
+        std::printf("seed %llu kidnapped after %.0f m: %s\n", static_cast<unsigned long long>(options.seed),
+                    options.kidnap_after, back ? ("relocalized within " + std::to_string(*back) + " m").c_str() : "not relocalized");
+      }
+      LocalizationTourOptions global = options;
+      global.global = true;
+      global.kidnap_after = 0.0;
+      global.measure_mapping = false;
+      const LocalizationTourResult found = RunLocalizationTour(world->world, map, world->start, global);
+      const std::optional<double> at = ConvergenceDistance(found.samples, kConverged);
+      if (at) converge.push_back(*at);
+      else ++never;
+      std::printf("seed %llu global: %s, %.2f ms CPU/scan\n", static_cast<unsigned long long>(options.seed),
+                  at ? ("converged after " + std::to_string(*at) + " m").c_str() : "did not converge",
+                  found.localizer_cpu_ms_per_scan);
+      last_global = found.samples;
+    }
+    std::printf("mean tracking error   %.3f m, %.2f deg\n", Mean(position), Mean(heading) * 180.0 / std::numbers::pi);
+    std::printf("global localization   converged in %zu of %d runs, mean %.1f m driven\n", converge.size(), runs, Mean(converge));
+    if (options.kidnap_after > 0.0) std::printf("kidnapping            recovered in %zu of %d runs, mean %.1f m driven\n", recover.size(), runs, Mean(recover));
+    std::printf("CPU per scan          %.2f ms localizing", Mean(mcl_cpu));
+    if (mapping) std::printf(", %.2f ms mapping", Mean(map_cpu));
+    std::printf("\n");
+    if (trace) WriteTrace(*trace, last_global);
+    if (json_path) {
+      WriteJsonFile(*json_path, JsonObject({{"world", JsonString(world->path)},
+                                           {"runs", JsonNumber(runs)},
+                                           {"tracking_position_error_m", JsonArray(position)},
+                                           {"tracking_heading_error_rad", JsonArray(heading)},
+                                           {"global_converged_after_m", JsonArray(converge)},
+                                           {"global_not_converged", JsonNumber(never)},
+                                           {"kidnap_recovered_after_m", JsonArray(recover)},
+                                           {"kidnap_not_recovered", JsonNumber(unrecovered)},
+                                           {"localizer_cpu_ms_per_scan", JsonArray(mcl_cpu)},
+                                           {"mapping_cpu_ms_per_scan", JsonArray(map_cpu)}}));
+    }
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "pslam experiment localize: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace pslam
