@@ -16,4 +16,7 @@ int RunExperimentCommand(const std::vector<std::string>& args);
 // `pslam run`: maps a CARMEN log with the particle filter.
 int RunRunCommand(const std::vector<std::string>& args);
 
+// `pslam localize`: Monte Carlo localization of a CARMEN log on a fixed map.
+int RunLocalizeCommand(const std::vector<std::string>& args);
+
 }  // namespace pslam

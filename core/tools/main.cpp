@@ -10,12 +10,14 @@ int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + std::min(argc, 2), argv + argc);
   const std::string command = argc > 1 ? argv[1] : "";
   if (command == "run") return pslam::RunRunCommand(args);
+  if (command == "localize") return pslam::RunLocalizeCommand(args);
   if (command == "eval") return pslam::RunEvalCommand(args);
   if (command == "experiment") return pslam::RunExperimentCommand(args);
   std::fprintf(stderr,
                "usage: pslam COMMAND [options]\n"
                "commands:\n"
                "  run    map a CARMEN log with the particle filter\n"
+               "  localize  localize a CARMEN log on a fixed map (Monte Carlo localization)\n"
                "  eval   relative pose error of a trajectory, or KL divergence between two maps\n"
                "  experiment  the paper's experiments: explore, hypotheses, particles, latency\n"
                "Run 'pslam COMMAND --help' for the options of a command.\n");
