@@ -98,6 +98,11 @@ TEST(LocalizeMclTest, RecoversAfterTheRobotIsCarriedElsewhere) {
   ASSERT_TRUE(recovered.has_value());
   EXPECT_LT(*recovered, 30.0);
   EXPECT_TRUE(run.samples.back().localized);
+
+  // It is the random injection that recovers: without it the cloud stays where it was.
+  options.mcl.recovery_alpha_slow = options.mcl.recovery_alpha_fast = 0.0;
+  const LocalizationTourResult stuck = RunLocalizationTour(room.world, room.map, room.start, options);
+  EXPECT_FALSE(ConvergenceDistance(stuck.samples, 0.2, options.kidnap_after).has_value());
 }
 
 TEST(LocalizeMclTest, SameSeedSameEstimates) {

@@ -40,6 +40,7 @@ const std::map<std::string, Setter>& Setters() {
       {"resample_threshold", Field(&MclOptions::resample_threshold)},
       {"recovery_alpha_slow", Field(&MclOptions::recovery_alpha_slow)},
       {"recovery_alpha_fast", Field(&MclOptions::recovery_alpha_fast)},
+      {"recovery_min_drop", Field(&MclOptions::recovery_min_drop)},
       {"localized_weight", Field(&MclOptions::localized_weight)},
       {"localized_position_std", Field(&MclOptions::localized_position_std)},
       {"localized_heading_std", Field(&MclOptions::localized_heading_std)},
@@ -84,6 +85,7 @@ std::string ValidateMclOptions(const MclOptions& o) {
   if (!(o.update_min_d >= 0.0) || !(o.update_min_a >= 0.0)) return "update thresholds must not be negative";
   if (!(o.recovery_alpha_slow >= 0.0) || !(o.recovery_alpha_fast <= 1.0) || o.recovery_alpha_fast < o.recovery_alpha_slow)
     return "need 0 <= recovery_alpha_slow <= recovery_alpha_fast <= 1";
+  if (!(o.recovery_min_drop >= 0.0 && o.recovery_min_drop < 1.0)) return "need 0 <= recovery_min_drop < 1";
   if (!(l.sigma > 0.0) || !(l.z_hit > 0.0) || !(l.z_rand > 0.0)) return "likelihood sigma, z_hit and z_rand must be positive";
   if (!(l.max_distance > 0.0) || l.max_distance > 50.0) return "likelihood.max_distance must be in (0, 50] m";
   if (!(l.temperature > 0.0) || l.max_beams < 1) return "need likelihood.temperature > 0 and max_beams >= 1";

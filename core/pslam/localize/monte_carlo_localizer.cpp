@@ -82,7 +82,7 @@ void MonteCarloLocalizer::Reset(std::vector<Pose2D> poses) {
   log_weights_.assign(poses_.size(), 0.0);
   initialized_ = true;
   force_update_ = true;
-  have_averages_ = false;
+  averaged_ = 0;
   ++step_;
   Summarize();
 }
@@ -120,19 +120,25 @@ std::vector<double> MonteCarloLocalizer::weights() const { return NormalizeLogWe
 void MonteCarloLocalizer::Weigh(const std::vector<Eigen::Vector2f>& points) {
   const std::vector<double> prior = weights();
   const double inv_temperature = 1.0 / options_.likelihood.temperature;
-  double log_avg = -INFINITY;  // log of sum_i prior_i * p(z | x_i): how well the cloud explains z
+  const double inv_points = 1.0 / static_cast<double>(points.size());
+  // How well the cloud explains the scan, for augmented MCL: sum_i prior_i * (geometric mean of
+  // the beam scores of particle i). Per beam, so that it keeps one scale from scan to scan (AMCL
+  // sums beam scores for the same reason): the product over all beams swings by orders of
+  // magnitude between places, and the averages would read every such swing as a kidnapping.
+  double log_avg = -INFINITY;
   for (std::size_t i = 0; i < poses_.size(); ++i) {
-    const double log_likelihood = field_.LogLikelihood(points, poses_[i]) * inv_temperature;
-    log_weights_[i] += log_likelihood;
-    if (prior[i] > 0.0) log_avg = LogAddExp(log_avg, std::log(prior[i]) + log_likelihood);
+    const double log_likelihood = field_.LogLikelihood(points, poses_[i]);
+    log_weights_[i] += log_likelihood * inv_temperature;
+    if (prior[i] > 0.0) log_avg = LogAddExp(log_avg, std::log(prior[i]) + log_likelihood * inv_points);
   }
-  if (!have_averages_) {
-    log_w_slow_ = log_w_fast_ = log_avg;
-    have_averages_ = true;
-  } else {
-    log_w_slow_ = BlendLog(log_w_slow_, log_avg, options_.recovery_alpha_slow);
-    log_w_fast_ = BlendLog(log_w_fast_, log_avg, options_.recovery_alpha_fast);
-  }
+  // The k-th average since a start weighs its sample by max(alpha, 1 / k): a plain mean until
+  // 1 / alpha samples are in. Started from the first sample alone, the slow average would stay
+  // near the poor fit of a fresh, spread-out cloud for a thousand updates, and a later kidnapping
+  // would not show against it.
+  ++averaged_;
+  const double share = 1.0 / static_cast<double>(averaged_);
+  log_w_slow_ = BlendLog(log_w_slow_, log_avg, options_.recovery_alpha_slow > 0.0 ? std::max(options_.recovery_alpha_slow, share) : 0.0);
+  log_w_fast_ = BlendLog(log_w_fast_, log_avg, options_.recovery_alpha_fast > 0.0 ? std::max(options_.recovery_alpha_fast, share) : 0.0);
 }
 
 void MonteCarloLocalizer::Resample() {
@@ -208,8 +214,14 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
   if (!points.empty()) Weigh(points);
   last_.updated = true;
   last_.effective_sample_size = EffectiveSampleSize(weights());
-  last_.injection_probability = have_averages_ ? std::max(0.0, 1.0 - std::exp(log_w_fast_ - log_w_slow_)) : 0.0;
-  if (last_.effective_sample_size < options_.resample_threshold * static_cast<double>(poses_.size())) Resample();
+  const double drop = averaged_ > 0 ? 1.0 - std::exp(log_w_fast_ - log_w_slow_) : 0.0;
+  last_.injection_probability = drop > options_.recovery_min_drop ? drop : 0.0;
+  // Injection happens at resampling, so a cloud that fits worse than it used to is resampled even
+  // when its weights are even (a kidnapped cloud is uniformly wrong).
+  if (last_.effective_sample_size < options_.resample_threshold * static_cast<double>(poses_.size()) ||
+      last_.injection_probability > 0.0) {
+    Resample();
+  }
   ++stats_.updates;
   Summarize();
   return last_;

@@ -80,7 +80,7 @@ class MonteCarloLocalizer {
   bool force_update_ = false;      // weigh at the next scan even without motion (a fresh start)
   Pose2D update_odometry_;         // odometry at the last update
   std::uint64_t step_ = 0;         // updates and starts so far: the random stream index
-  bool have_averages_ = false;
+  long long averaged_ = 0;         // samples in the recovery averages since the last start
   double log_w_slow_ = 0.0, log_w_fast_ = 0.0;
   MclUpdate last_;
   MclStats stats_;
