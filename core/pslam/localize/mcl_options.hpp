@@ -32,8 +32,8 @@ struct MclOptions {
   // how many histogram bins the posterior occupies. kld_z is the standard normal quantile of the
   // confidence, used as given as AMCL does (its default 0.99 is the quantile, not the confidence).
   // Global localization starts with max_particles: the more, the likelier one lands near the
-  // true pose before the cloud settles on a look-alike place (5000, AMCL's default, often did not
-  // in the shipped worlds; 20000 cost 5 ms per update while they last).
+  // true pose before the cloud settles on a look-alike place (in the irregular world, 5000, AMCL's
+  // default, converged in none of 5 runs, 20000 in 4; KLD shrinks the set within a few updates).
   int min_particles = 500;
   int max_particles = 20000;
   double kld_err = 0.01;
