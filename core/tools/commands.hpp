@@ -18,5 +18,7 @@ int RunRunCommand(const std::vector<std::string>& args);
 
 // `pslam localize`: Monte Carlo localization of a CARMEN log on a fixed map.
 int RunLocalizeCommand(const std::vector<std::string>& args);
+// `pslam worlds generate`: writes generated floor plans as map_server worlds.
+int RunWorldsCommand(const std::vector<std::string>& args);
 
 }  // namespace pslam

@@ -1,0 +1,137 @@
+// The floor-plan generator: the same seed gives the same building, and every family's buildings
+// are valid worlds for the exploration experiments: size in range, free space in one piece, every
+// room and corridor reachable from the start by the robot's inflated footprint (so every door is
+// passable), and a start the robot fits at.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "pslam/explore/distance_transform.hpp"
+#include "pslam/explore/path_planner.hpp"
+#include "pslam/sim/diff_drive.hpp"
+#include "pslam/sim/floorplan.hpp"
+#include "pslam/sim/world_file.hpp"
+
+namespace pslam {
+namespace {
+
+std::size_t Index(const World& w, const Eigen::Vector2i& c) {
+  return static_cast<std::size_t>(c.y() - w.bounds().min.y()) * static_cast<std::size_t>(w.bounds().width()) +
+         static_cast<std::size_t>(c.x() - w.bounds().min.x());
+}
+
+// Cells reachable from 'from' through 4-neighbours for which 'passable' holds.
+template <typename Passable>
+std::vector<bool> Flood(const World& w, const Eigen::Vector2d& from, Passable&& passable) {
+  std::vector<bool> seen(static_cast<std::size_t>(w.bounds().width()) * static_cast<std::size_t>(w.bounds().height()));
+  std::vector<Eigen::Vector2i> stack;
+  const auto visit = [&](const Eigen::Vector2i& c) {
+    if (!w.Contains(c) || seen[Index(w, c)] || !passable(c)) return;
+    seen[Index(w, c)] = true;
+    stack.push_back(c);
+  };
+  visit(w.WorldToCell(from));
+  while (!stack.empty()) {
+    const Eigen::Vector2i c = stack.back();
+    stack.pop_back();
+    for (const Eigen::Vector2i& d : {Eigen::Vector2i(1, 0), Eigen::Vector2i(-1, 0), Eigen::Vector2i(0, 1),
+                                    Eigen::Vector2i(0, -1)}) {
+      visit(c + d);
+    }
+  }
+  return seen;
+}
+
+// The planner's footprint: the robot's radius plus its inflation margin.
+double InflatedRadius() {
+  const PlannerOptions planning;
+  return planning.robot_radius + planning.inflation_margin;
+}
+
+constexpr std::uint64_t kSeeds[] = {1, 2, 3, 4, 5, 6};
+
+TEST(SimFloorPlanTest, SameSeedSameBuildingOtherSeedOtherBuilding) {
+  for (const FloorPlanFamily family : AllFloorPlanFamilies()) {
+    SCOPED_TRACE(FloorPlanFamilyName(family));
+    const FloorPlan a = GenerateFloorPlan(family, 7), b = GenerateFloorPlan(family, 7), c = GenerateFloorPlan(family, 8);
+    ASSERT_EQ(a.world.bounds().min, b.world.bounds().min);
+    ASSERT_EQ(a.world.bounds().max, b.world.bounds().max);
+    int differing = 0;
+    const CellBox& box = a.world.bounds();
+    for (int y = box.min.y(); y <= box.max.y(); ++y) {
+      for (int x = box.min.x(); x <= box.max.x(); ++x) differing += a.world.At({x, y}) != b.world.At({x, y});
+    }
+    EXPECT_EQ(differing, 0);
+    EXPECT_EQ(a.description, b.description);
+    EXPECT_NE(a.description, c.description);
+  }
+}
+
+TEST(SimFloorPlanTest, EveryFamilyIsInSizeConnectedAndPassable) {
+  const double radius_cells = InflatedRadius() / 0.05;
+  for (const FloorPlanFamily family : AllFloorPlanFamilies()) {
+    for (const std::uint64_t seed : kSeeds) {
+      const FloorPlan plan = GenerateFloorPlan(family, seed);
+      SCOPED_TRACE(plan.name + ": " + plan.description);
+      const World& w = plan.world;
+      EXPECT_GE(plan.outline_area_m2, kFloorPlanMinArea);
+      EXPECT_LE(plan.outline_area_m2, kFloorPlanMaxArea);
+      const double free_m2 = static_cast<double>(w.Count(WorldCell::kFree)) * 0.0025;
+      EXPECT_GT(free_m2, 0.4 * plan.outline_area_m2);
+      EXPECT_LT(free_m2, plan.outline_area_m2);
+      EXPECT_TRUE(w.IsDiscFree(plan.start.translation(), DiffDriveOptions{}.robot_radius));
+
+      // Free space in one piece: no pocket the robot could see into but never count.
+      const std::vector<bool> free = Flood(w, plan.start.translation(), [&](const Eigen::Vector2i& c) { return w.IsFree(c); });
+      EXPECT_EQ(static_cast<std::size_t>(std::count(free.begin(), free.end(), true)), w.Count(WorldCell::kFree));
+
+      // Where the inflated footprint fits, and which of those cells the robot reaches from the start.
+      const int width = w.bounds().width(), height = w.bounds().height();
+      std::vector<bool> blocked(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+      for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) blocked[Index(w, w.bounds().min + Eigen::Vector2i(x, y))] = !w.IsFree(w.bounds().min + Eigen::Vector2i(x, y));
+      }
+      const std::vector<float> d2 = SquaredDistanceTransform(blocked, width, height);
+      const auto fits = [&](const Eigen::Vector2i& c) { return d2[Index(w, c)] > radius_cells * radius_cells; };
+      const std::vector<bool> reach = Flood(w, plan.start.translation(), fits);
+      ASSERT_FALSE(plan.places.empty());
+      int unreachable = 0;
+      for (const Eigen::Vector2d& p : plan.places) {
+        const Eigen::Vector2i c = w.WorldToCell(p);
+        if (!w.Contains(c) || !reach[Index(w, c)]) {
+          ++unreachable;
+          ADD_FAILURE() << "place (" << p.x() << ", " << p.y() << ") not reachable by the inflated footprint";
+          if (unreachable > 3) break;
+        }
+      }
+    }
+  }
+}
+
+TEST(SimFloorPlanTest, WrittenFilesLoadWithTheirStart) {
+  const FloorPlan plan = GenerateFloorPlan(FloorPlanFamily::kHotel, 3);
+  const std::string prefix = (std::filesystem::path(testing::TempDir()) / plan.name).string();
+  SaveWorld(plan.world, prefix, plan.start, plan.description);
+  const World loaded = LoadWorld(prefix + ".yaml");
+  EXPECT_EQ(loaded.Count(WorldCell::kFree), plan.world.Count(WorldCell::kFree));
+  EXPECT_EQ(loaded.Count(WorldCell::kOccupied), plan.world.Count(WorldCell::kOccupied));
+  const auto start = ReadStartPose(prefix + ".yaml");
+  ASSERT_TRUE(start.has_value());
+  EXPECT_NEAR(start->x, plan.start.x, 1e-6);
+  EXPECT_NEAR(start->y, plan.start.y, 1e-6);
+}
+
+TEST(SimFloorPlanTest, FamilyNamesRoundTrip) {
+  for (const FloorPlanFamily family : AllFloorPlanFamilies()) {
+    EXPECT_EQ(ParseFloorPlanFamily(FloorPlanFamilyName(family)), family);
+  }
+  EXPECT_FALSE(ParseFloorPlanFamily("castle").has_value());
+  EXPECT_TRUE(IsRepetitiveFamily(FloorPlanFamily::kHotel));
+  EXPECT_FALSE(IsRepetitiveFamily(FloorPlanFamily::kOpenPlan));
+}
+
+}  // namespace
+}  // namespace pslam
