@@ -7,11 +7,13 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
 #include "pslam/experiment/map_similarity.hpp"
 #include "pslam/filter/rbpf_options.hpp"
+#include "pslam/sim/floorplan.hpp"
 #include "pslam/sim/world_file.hpp"
 
 namespace pslam {
@@ -66,6 +68,66 @@ std::optional<WorldChoice> ChooseWorld(CliArgs& cli, const std::string& default_
     cli.AddError(e.what());
     return std::nullopt;
   }
+}
+
+const char* const kGeneratedWorldsUsage =
+    "  --generated FAMILY [--count N (1)] [--first-seed S (1)]: N generated floor plans instead of --world\n"
+    "    (office, hotel, hospital, school, maze, hall, open, mixed; see 'pslam worlds generate')\n";
+
+std::vector<WorldChoice> ChooseWorlds(CliArgs& cli, const std::string& default_name) {
+  const std::optional<std::string> family_name = cli.Value("--generated");
+  const int count = cli.Int("--count", 1), first_seed = cli.Int("--first-seed", 1);
+  std::vector<WorldChoice> worlds;
+  if (!family_name) {
+    if (auto world = ChooseWorld(cli, default_name)) worlds.push_back(std::move(*world));
+    return worlds;
+  }
+  const auto family = ParseFloorPlanFamily(*family_name);
+  if (!family) cli.AddError("--generated: unknown family '" + *family_name + "'");
+  if (count < 1) cli.AddError("--count must be at least 1");
+  if (first_seed < 0) cli.AddError("--first-seed must not be negative");
+  if (cli.Value("--world")) cli.AddError("--generated and --world exclude each other");
+  if (!family || count < 1 || first_seed < 0) return worlds;
+  for (int i = 0; i < count; ++i) {
+    FloorPlan plan = GenerateFloorPlan(*family, static_cast<std::uint64_t>(first_seed + i));
+    worlds.push_back({"generated:" + plan.name, std::move(plan.world), plan.start});
+  }
+  return worlds;
+}
+
+Spread SpreadOf(const std::vector<double>& values) {
+  Spread s;
+  double sum = 0.0, sum2 = 0.0;
+  for (const double v : values) {
+    if (!std::isfinite(v)) continue;
+    s.min = s.n ? std::min(s.min, v) : v;
+    s.max = s.n ? std::max(s.max, v) : v;
+    sum += v;
+    sum2 += v * v;
+    ++s.n;
+  }
+  if (s.n == 0) {
+    s.mean = s.std = s.min = s.max = std::numeric_limits<double>::quiet_NaN();
+    return s;
+  }
+  s.mean = sum / s.n;
+  s.std = std::sqrt(std::max(0.0, sum2 / s.n - s.mean * s.mean));
+  return s;
+}
+
+std::string SpreadText(const Spread& s, double scale, const char* format) {
+  if (s.n == 0) return "none";
+  const auto f = [&](double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, format, v * scale);
+    return std::string(b);
+  };
+  return f(s.mean) + " +- " + f(s.std) + " [" + f(s.min) + ", " + f(s.max) + "] (n " + std::to_string(s.n) + ")";
+}
+
+std::string SpreadJson(const Spread& s) {
+  return JsonObject({{"n", JsonNumber(s.n)}, {"mean", JsonNumber(s.mean)}, {"std", JsonNumber(s.std)},
+                     {"min", JsonNumber(s.min)}, {"max", JsonNumber(s.max)}});
 }
 
 std::string SharedDataDir() {

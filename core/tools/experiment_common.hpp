@@ -36,6 +36,22 @@ struct WorldChoice {
 // nullopt after adding the problem to cli's errors.
 std::optional<WorldChoice> ChooseWorld(CliArgs& cli, const std::string& default_name);
 
+// The worlds of an experiment: with --generated FAMILY, --count N (1) floor plans of that family
+// (core/pslam/sim/floorplan.hpp) from --first-seed S (1) on, each named generated:FAMILY_SEED;
+// else the one world of ChooseWorld. Empty after adding the problem to cli's errors.
+std::vector<WorldChoice> ChooseWorlds(CliArgs& cli, const std::string& default_name);
+extern const char* const kGeneratedWorldsUsage;
+
+// A figure over a population of runs: mean, standard deviation (population), min and max of the
+// finite values; n counts them.
+struct Spread {
+  int n = 0;
+  double mean = 0.0, std = 0.0, min = 0.0, max = 0.0;
+};
+Spread SpreadOf(const std::vector<double>& values);
+std::string SpreadText(const Spread& s, double scale = 1.0, const char* format = "%.3f");  // "m +- s [min, max] (n)"
+std::string SpreadJson(const Spread& s);
+
 // The shared data folder: $PSLAM_DATA_DIR, else ../shared/data.
 std::string SharedDataDir();
 

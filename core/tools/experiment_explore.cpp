@@ -3,6 +3,7 @@
 // already cover. The paper saved 33 % of the time (684 s -> 457 s) with a merged map that
 // "predicted the structures inside the unexplored regions reasonably well"; here that is measured
 // as Psi (eq. 5) of the merged predicted cells against the true world.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "experiment_common.hpp"
+#include "pslam/experiment/equal_coverage.hpp"
 #include "pslam/experiment/map_similarity.hpp"
 #include "pslam/io/map_io.hpp"
 
@@ -31,17 +33,22 @@ constexpr const char* kUsage =
     "  paper's Fig. 7(d): no frontier outside it is explored; --unbounded drops that (Fig. 7(e)).\n"
     "  --pslam-mode full runs P-SLAM with full coverage too, to compare maps with the same explorer\n"
     "  (the irregular world). --save PREFIX writes PREFIX_full, PREFIX_skip and PREFIX_skip_merged\n"
-    "  maps of the first run (.pgm/.yaml/.png).\n";
+    "  maps of the first run (.pgm/.yaml/.png).\n"
+    "  Time saved is measured at equal coverage: both runs are timed to the share of the reachable free\n"
+    "  area that full coverage mapped, less --coverage-tolerance (0.02); a skip run that never gets\n"
+    "  there saves 0. Pairs where a run hit --time-limit are listed but left out of the time figures.\n";
 
 struct ExploreRow {
   std::string name;
+  std::string world;
   std::uint64_t seed = 0;
   ExplorationSummary summary;
   double map_psi = 0.0;            // built map against the true world
   std::vector<double> psi_truth;   // per accepted hypothesis, against the true world
   double merged_psi = std::numeric_limits<double>::quiet_NaN();
   double merged_area_m2 = 0.0;
-  double mapped_or_predicted = 0.0;  // share of the world's free area mapped or predicted at the end
+  double mapped_or_predicted = 0.0;  // share of the reachable free area mapped or predicted at the end
+  CoverageTrace coverage;
   int judged = 0;                  // hypotheses confirmed or refuted by P-SLAM's judge
   int judged_as_truth = 0;         // of which the verdict matches Psi vs truth >= confirm_psi
 };
@@ -49,6 +56,7 @@ struct ExploreRow {
 std::string RowJson(const ExploreRow& row) {
   const ExplorationSummary& s = row.summary;
   return JsonObject({{"name", JsonString(row.name)},
+                     {"world", JsonString(row.world)},
                      {"seed", JsonNumber(static_cast<double>(row.seed))},
                      {"state", JsonString(ExplorationStateName(s.state))},
                      {"time_s", JsonNumber(s.time_s)},
@@ -103,13 +111,25 @@ void PrintRow(const ExploreRow& row) {
               FiniteMean(row.psi_truth));
 }
 
+constexpr double kCoverageSamplePeriodS = 10.0;
+
 ExploreRow RunOne(const std::string& name, const WorldChoice& world, const OccupancyGrid& truth,
-                  const ExplorationOptions& options, ProgressLine& progress, const std::string& save_prefix) {
+                  const OccupancyGrid& reachable, const ExplorationOptions& options, ProgressLine& progress,
+                  const std::string& save_prefix) {
   ExplorationRun run(world.world, world.start, options);
   ExploreRow row;
   row.name = name;
+  row.world = world.path;
   row.seed = options.slam.filter.seed;
-  row.summary = RunExplorationWithProgress(run, name + " seed " + std::to_string(row.seed), progress);
+  const std::string label = name + " seed " + std::to_string(row.seed);
+  row.coverage = RunRecordingCoverage(run, reachable, kCoverageSamplePeriodS, [&] {
+    char line[160];
+    std::snprintf(line, sizeof line, "%s: %.0f / %.0f simulated s, %zu hypotheses", label.c_str(), run.time(),
+                  run.options().time_limit_s, run.accepted_hypotheses().size());
+    progress.Show(line);
+  });
+  progress.Finish();
+  row.summary = run.Summary();
   row.map_psi = BuiltMapSimilarity(run.slam().filter().best().map, truth);
   for (const auto& cells : AcceptedCellsInWorld(run)) row.psi_truth.push_back(PredictionSimilarity(cells, truth));
   const JudgeAgreement agreement = CountJudgedAsTruth(run, row.psi_truth);
@@ -121,7 +141,7 @@ ExploreRow RunOne(const std::string& name, const WorldChoice& world, const Occup
     row.merged_psi = PredictionSimilarity(merged, truth);
     row.merged_area_m2 = static_cast<double>(merged.size()) * truth.resolution() * truth.resolution();
   }
-  row.mapped_or_predicted = MappedOrPredictedFraction(truth, run.slam().filter().best().map, merged);
+  row.mapped_or_predicted = row.coverage.Final();
   if (!save_prefix.empty()) {
     SaveMap(run.slam().filter().best().map, save_prefix);
     if (options.slam.predict) SaveMap(run.slam().MergedMap(), save_prefix + "_merged");
@@ -129,11 +149,40 @@ ExploreRow RunOne(const std::string& name, const WorldChoice& world, const Occup
   return row;
 }
 
+// One full-coverage run and one P-SLAM run of the same world and seed, compared at equal coverage.
+struct ExplorePair {
+  ExploreRow full, skip;
+  EqualCoverageSaving saving;
+  bool time_limit = false;  // either run hit the time limit: listed, never averaged as finished
+};
+
+void PrintPairHeader() {
+  std::printf("%-28s %4s %8s %8s %9s %9s %8s %8s %8s  %s\n", "world", "seed", "full_s", "skip_s", "cov_full",
+              "cov_skip", "equal_at", "saved", "merged", "flags");
+}
+
+void PrintPair(const ExplorePair& p) {
+  std::string flags;
+  if (p.full.summary.state == ExplorationState::kTimeLimit) flags += "full-hit-time-limit ";
+  if (p.skip.summary.state == ExplorationState::kTimeLimit) flags += "skip-hit-time-limit ";
+  if (p.full.summary.state == ExplorationState::kStuck) flags += "full-stuck ";
+  if (p.skip.summary.state == ExplorationState::kStuck) flags += "skip-stuck ";
+  if (!p.saving.skip_reached) flags += "skip-below-equal-coverage(saved 0) ";
+  char skip_time[32];
+  if (p.saving.skip_reached) std::snprintf(skip_time, sizeof skip_time, "%.0f", p.saving.skip_time_s);
+  else std::snprintf(skip_time, sizeof skip_time, "never");
+  std::printf("%-28s %4llu %8.1f %8.1f %8.1f%% %8.1f%% %8.1f%% %5.0f/%-5s %7.1f%% %8.3f  %s\n", p.full.world.c_str(),
+              static_cast<unsigned long long>(p.full.seed), p.full.summary.time_s, p.skip.summary.time_s,
+              100.0 * p.full.mapped_or_predicted, 100.0 * p.skip.mapped_or_predicted, 100.0 * p.saving.target,
+              p.saving.full_time_s, skip_time, 100.0 * p.saving.saved_fraction, p.skip.merged_psi,
+              flags.empty() ? "-" : flags.c_str());
+}
+
 }  // namespace
 
 int RunExploreExperiment(CliArgs& cli) {
   const bool help = cli.Flag("--help");
-  const std::optional<WorldChoice> world = ChooseWorld(cli, "maze");
+  const std::vector<WorldChoice> worlds = ChooseWorlds(cli, "maze");
   ExplorationOptions options = ExplorationFromCli(cli, 2400.0);
   const int runs = cli.Int("--runs", 1);
   options.explore.skip_covered_fraction = cli.Double("--skip-fraction", options.explore.skip_covered_fraction);
@@ -141,95 +190,144 @@ int RunExploreExperiment(CliArgs& cli) {
   options.plan_on_merged_map = !cli.Flag("--plan-on-best-map");
   const bool unbounded = cli.Flag("--unbounded");
   const std::string pslam_mode = cli.Value("--pslam-mode").value_or("skip");
+  const double tolerance = cli.Double("--coverage-tolerance", 0.02);
   const std::optional<std::string> json_path = cli.Value("--json");
   const std::optional<std::string> save_prefix = cli.Value("--save");
   ProgressLine progress(ProgressWanted(cli));
   if (help) {
-    std::printf("%s%s", kUsage, kExplorationFlagsUsage);
+    std::printf("%s%s%s", kUsage, kGeneratedWorldsUsage, kExplorationFlagsUsage);
     return 0;
   }
   if (runs < 1) cli.AddError("--runs must be at least 1");
+  if (!(tolerance >= 0.0 && tolerance < 1.0)) cli.AddError("--coverage-tolerance must lie in [0, 1)");
   if (pslam_mode != "skip" && pslam_mode != "full") cli.AddError("--pslam-mode is skip or full, got '" + pslam_mode + "'");
-  if (!cli.ok() || !world) {
-    std::fprintf(stderr, "%s%s%s", cli.error().c_str(), kUsage, kExplorationFlagsUsage);
+  if (!cli.ok() || worlds.empty()) {
+    std::fprintf(stderr, "%s%s%s%s", cli.error().c_str(), kUsage, kGeneratedWorldsUsage, kExplorationFlagsUsage);
     return 2;
   }
   try {
-    if (!unbounded) options.explore.area = world->world.Extent();
-    const OccupancyGrid truth = world->world.ToGrid();
     const std::uint64_t first_seed = options.slam.filter.seed;
-    std::printf("world %s, start (%.2f, %.2f, %.3f), %d particles, similarity threshold %.2f, %d run(s)\n",
-                world->path.c_str(), world->start.x, world->start.y, world->start.theta,
-                options.slam.filter.particles, options.slam.predictor.similarity_threshold, runs);
-    std::vector<ExploreRow> full_rows, skip_rows;
-    for (int r = 0; r < runs; ++r) {
-      ExplorationOptions seeded = options;
-      seeded.slam.filter.seed = seeded.simulator.seed = first_seed + static_cast<std::uint64_t>(r);
-      const std::string prefix = save_prefix && r == 0 ? *save_prefix : "";
-      ExplorationOptions full = seeded;
-      full.slam.predict = false;
-      full.explore.mode = ExploreMode::kFullCoverage;
-      full_rows.push_back(RunOne("RBPF, full coverage", *world, truth, full, progress, prefix.empty() ? "" : prefix + "_full"));
-      ExplorationOptions skip = seeded;
-      skip.slam.predict = true;
-      skip.explore.mode = pslam_mode == "full" ? ExploreMode::kFullCoverage : ExploreMode::kSkipPredicted;
-      skip_rows.push_back(RunOne(pslam_mode == "full" ? "P-SLAM, full coverage" : "P-SLAM, skip predicted", *world, truth,
-                                 skip, progress, prefix.empty() ? "" : prefix + "_skip"));
+    std::printf("%zu world(s), %d particles, similarity threshold %.2f, %d run(s) each, time limit %.0f s\n",
+                worlds.size(), options.slam.filter.particles, options.slam.predictor.similarity_threshold, runs,
+                options.time_limit_s);
+    std::vector<ExplorePair> pairs;
+    for (const WorldChoice& world : worlds) {
+      ExplorationOptions world_options = options;
+      if (!unbounded) world_options.explore.area = world.world.Extent();
+      const OccupancyGrid truth = world.world.ToGrid();
+      const OccupancyGrid reachable = ReachableFreeCells(world.world, world.start.translation());
+      std::printf("world %s, start (%.2f, %.2f, %.3f)\n", world.path.c_str(), world.start.x, world.start.y,
+                  world.start.theta);
+      for (int r = 0; r < runs; ++r) {
+        ExplorationOptions seeded = world_options;
+        seeded.slam.filter.seed = seeded.simulator.seed = first_seed + static_cast<std::uint64_t>(r);
+        const std::string prefix = save_prefix && r == 0 && worlds.size() == 1 ? *save_prefix : "";
+        ExplorationOptions full = seeded;
+        full.slam.predict = false;
+        full.explore.mode = ExploreMode::kFullCoverage;
+        ExplorePair pair;
+        pair.full = RunOne("RBPF, full coverage", world, truth, reachable, full, progress,
+                           prefix.empty() ? "" : prefix + "_full");
+        ExplorationOptions skip = seeded;
+        skip.slam.predict = true;
+        skip.explore.mode = pslam_mode == "full" ? ExploreMode::kFullCoverage : ExploreMode::kSkipPredicted;
+        pair.skip = RunOne(pslam_mode == "full" ? "P-SLAM, full coverage" : "P-SLAM, skip predicted", world, truth,
+                           reachable, skip, progress, prefix.empty() ? "" : prefix + "_skip");
+        pair.saving = CompareAtEqualCoverage(pair.full.coverage, pair.skip.coverage, tolerance);
+        pair.time_limit = pair.full.summary.state == ExplorationState::kTimeLimit ||
+                          pair.skip.summary.state == ExplorationState::kTimeLimit;
+        PrintHeader();
+        PrintRow(pair.full);
+        PrintRow(pair.skip);
+        pairs.push_back(std::move(pair));
+      }
     }
 
-    PrintHeader();
-    std::vector<double> time_full, time_skip, merged_psi, hypothesis_psi, map_psi_full, map_psi_skip, covered_full,
-        covered_skip;
-    bool unfinished = false;
-    for (std::size_t r = 0; r < full_rows.size(); ++r) {
-      const ExploreRow& full = full_rows[r];
-      const ExploreRow& skip = skip_rows[r];
-      PrintRow(full);
-      PrintRow(skip);
-      time_full.push_back(full.summary.time_s);
-      time_skip.push_back(skip.summary.time_s);
-      merged_psi.push_back(skip.merged_psi);
-      map_psi_full.push_back(full.map_psi);
-      map_psi_skip.push_back(skip.map_psi);
-      covered_full.push_back(full.mapped_or_predicted);
-      covered_skip.push_back(skip.mapped_or_predicted);
-      hypothesis_psi.insert(hypothesis_psi.end(), skip.psi_truth.begin(), skip.psi_truth.end());
-      unfinished = unfinished || full.summary.state != ExplorationState::kExplored ||
-                   skip.summary.state != ExplorationState::kExplored;
+    std::printf("\nper pair: times to the end; coverage = mapped or predicted share of the reachable free area;\n"
+                "equal_at = full's final coverage - %.2f, reached by full / skip at the times given\n", tolerance);
+    PrintPairHeader();
+    for (const ExplorePair& p : pairs) PrintPair(p);
+
+    // Population figures. Time figures only over pairs where neither run hit the time limit.
+    std::vector<double> saved, equal_full, equal_skip, end_full, end_skip, merged_psi, hypothesis_psi, per_run_psi,
+        per_run_good, covered_full, covered_skip, hypotheses, map_psi_full, map_psi_skip;
+    int time_limit_pairs = 0, full_limits = 0, skip_limits = 0, stopped_early = 0, judged = 0, judged_as_truth = 0;
+    for (const ExplorePair& p : pairs) {
+      full_limits += p.full.summary.state == ExplorationState::kTimeLimit;
+      skip_limits += p.skip.summary.state == ExplorationState::kTimeLimit;
+      merged_psi.push_back(p.skip.merged_psi);
+      covered_full.push_back(p.full.mapped_or_predicted);
+      covered_skip.push_back(p.skip.mapped_or_predicted);
+      hypotheses.push_back(p.skip.summary.hypotheses);
+      map_psi_full.push_back(p.full.map_psi);
+      map_psi_skip.push_back(p.skip.map_psi);
+      hypothesis_psi.insert(hypothesis_psi.end(), p.skip.psi_truth.begin(), p.skip.psi_truth.end());
+      int scored = 0;
+      per_run_psi.push_back(FiniteMean(p.skip.psi_truth, &scored));
+      if (scored > 0) {
+        per_run_good.push_back(static_cast<double>(std::count_if(p.skip.psi_truth.begin(), p.skip.psi_truth.end(),
+                                                                 [](double v) { return v >= 0.4; })) / scored);
+      }
+      judged += p.skip.judged;
+      judged_as_truth += p.skip.judged_as_truth;
+      if (p.time_limit) {
+        ++time_limit_pairs;
+        continue;
+      }
+      stopped_early += !p.saving.skip_reached;
+      saved.push_back(p.saving.saved_fraction);
+      equal_full.push_back(p.saving.full_time_s);
+      if (p.saving.skip_reached) equal_skip.push_back(p.saving.skip_time_s);
+      end_full.push_back(p.full.summary.time_s);
+      end_skip.push_back(p.skip.summary.time_s);
     }
-    const double mean_full = FiniteMean(time_full), mean_skip = FiniteMean(time_skip);
-    const double saved = mean_full > 0.0 ? (mean_full - mean_skip) / mean_full : 0.0;
-    int scored = 0, good = 0, judged = 0, judged_as_truth = 0;
-    for (const ExploreRow& row : skip_rows) {
-      judged += row.judged;
-      judged_as_truth += row.judged_as_truth;
-    }
+    int scored = 0, good = 0;
     const double mean_hypothesis_psi = FiniteMean(hypothesis_psi, &scored);
-    for (const double v : hypothesis_psi) good += v >= 0.5;
-    std::printf("exploration time         RBPF full %.1f s, P-SLAM %s %.1f s (mean of %d): %.1f %% saved  (paper: 684 s -> 457 s, 33 %%)\n",
-                mean_full, pslam_mode.c_str(), mean_skip, runs, 100.0 * saved);
-    std::printf("merged predictions       Psi vs true world %.3f (eq. 5 over the predicted cells left unexplored)\n",
-                FiniteMean(merged_psi));
-    std::printf("mapped or predicted      RBPF %.1f %%, P-SLAM %.1f %% of the true world's free area\n",
-                100.0 * FiniteMean(covered_full), 100.0 * FiniteMean(covered_skip));
-    std::printf("hypotheses               %zu accepted, Psi vs true world: mean %.3f over %d, %d with Psi >= 0.5\n",
-                hypothesis_psi.size(), mean_hypothesis_psi, scored, good);
+    for (const double v : hypothesis_psi) good += v >= 0.4;
+    const Spread saved_spread = SpreadOf(saved);
+    std::printf("\nover %zu pair(s); figures as mean +- std [min, max] (n)\n", pairs.size());
+    std::printf("time limit hit           %d pair(s) (full %d, skip %d): listed above, left out of the time figures\n",
+                time_limit_pairs, full_limits, skip_limits);
+    std::printf("saved at equal coverage  %s %%  (%d skip run(s) never reached it: 0 saved)  (paper: 33 %%)\n",
+                SpreadText(saved_spread, 100.0, "%.1f").c_str(), stopped_early);
+    std::printf("time to equal coverage   full %s s, skip %s s\n", SpreadText(SpreadOf(equal_full), 1.0, "%.0f").c_str(),
+                SpreadText(SpreadOf(equal_skip), 1.0, "%.0f").c_str());
+    std::printf("time to the end          full %s s, skip %s s\n", SpreadText(SpreadOf(end_full), 1.0, "%.0f").c_str(),
+                SpreadText(SpreadOf(end_skip), 1.0, "%.0f").c_str());
+    std::printf("merged Psi vs truth      %s  (runs >= 0.7: %d)\n", SpreadText(SpreadOf(merged_psi)).c_str(),
+                static_cast<int>(std::count_if(merged_psi.begin(), merged_psi.end(), [](double v) { return v >= 0.7; })));
+    std::printf("mapped or predicted      full %s %%, skip %s %% of the reachable free area\n",
+                SpreadText(SpreadOf(covered_full), 100.0, "%.1f").c_str(),
+                SpreadText(SpreadOf(covered_skip), 100.0, "%.1f").c_str());
+    std::printf("hypotheses per run       %s\n", SpreadText(SpreadOf(hypotheses), 1.0, "%.1f").c_str());
+    std::printf("hypothesis Psi vs truth  all %zu: mean %.3f over %d scored, %d (%.0f %%) >= 0.4; per run mean %s, "
+                "share >= 0.4 %s\n",
+                hypothesis_psi.size(), mean_hypothesis_psi, scored, good, scored ? 100.0 * good / scored : 0.0,
+                SpreadText(SpreadOf(per_run_psi)).c_str(), SpreadText(SpreadOf(per_run_good)).c_str());
     std::printf("judge vs true world      %d of %d confirmed/refuted hypotheses agree with Psi vs truth >= %.2f\n",
                 judged_as_truth, judged, options.slam.judge.confirm_psi);
-    std::printf("built map vs true world  Psi RBPF %.3f, P-SLAM %.3f\n", FiniteMean(map_psi_full), FiniteMean(map_psi_skip));
-    if (unfinished) std::printf("note: a run did not finish exploring (see state); its time is a lower bound\n");
+    std::printf("built map vs true world  Psi RBPF %s, P-SLAM %s\n", SpreadText(SpreadOf(map_psi_full)).c_str(),
+                SpreadText(SpreadOf(map_psi_skip)).c_str());
 
     if (json_path) {
       std::vector<std::string> rows;
-      for (std::size_t r = 0; r < full_rows.size(); ++r) {
-        rows.push_back(RowJson(full_rows[r]));
-        rows.push_back(RowJson(skip_rows[r]));
+      for (const ExplorePair& p : pairs) {
+        rows.push_back(JsonObject({{"full", RowJson(p.full)},
+                                   {"skip", RowJson(p.skip)},
+                                   {"equal_coverage", JsonNumber(p.saving.target)},
+                                   {"full_time_to_equal_s", JsonNumber(p.saving.full_time_s)},
+                                   {"skip_time_to_equal_s", JsonNumber(p.saving.skip_time_s)},
+                                   {"skip_reached_equal_coverage", p.saving.skip_reached ? "true" : "false"},
+                                   {"saved_fraction", JsonNumber(p.saving.saved_fraction)},
+                                   {"time_limit_hit", p.time_limit ? "true" : "false"}}));
       }
+      std::vector<std::string> world_names;
+      for (const WorldChoice& w : worlds) world_names.push_back(JsonString(w.path));
       WriteJsonFile(*json_path,
                     JsonObject({{"experiment", JsonString("explore")},
-                                {"world", JsonString(world->path)},
+                                {"worlds", JsonArray(world_names)},
                                 {"first_seed", JsonNumber(static_cast<double>(first_seed))},
-                                {"runs_per_mode", JsonNumber(runs)},
+                                {"runs_per_world", JsonNumber(runs)},
                                 {"particles", JsonNumber(options.slam.filter.particles)},
                                 {"similarity_threshold", JsonNumber(options.slam.predictor.similarity_threshold)},
                                 {"skip_covered_fraction", JsonNumber(options.explore.skip_covered_fraction)},
@@ -237,17 +335,19 @@ int RunExploreExperiment(CliArgs& cli) {
                                 {"plan_on_merged_map", options.plan_on_merged_map ? "true" : "false"},
                                 {"area_known", unbounded ? "false" : "true"},
                                 {"pslam_mode", JsonString(pslam_mode)},
-                                {"time_full_s", JsonNumber(mean_full)},
-                                {"time_skip_s", JsonNumber(mean_skip)},
-                                {"saved_fraction", JsonNumber(saved)},
-                                {"merged_psi", JsonNumber(FiniteMean(merged_psi))},
+                                {"time_limit_s", JsonNumber(options.time_limit_s)},
+                                {"coverage_tolerance", JsonNumber(tolerance)},
+                                {"time_limit_pairs", JsonNumber(time_limit_pairs)},
+                                {"skip_below_equal_coverage", JsonNumber(stopped_early)},
+                                {"saved_at_equal_coverage", SpreadJson(saved_spread)},
+                                {"time_to_equal_full_s", SpreadJson(SpreadOf(equal_full))},
+                                {"time_to_equal_skip_s", SpreadJson(SpreadOf(equal_skip))},
+                                {"merged_psi", SpreadJson(SpreadOf(merged_psi))},
+                                {"mapped_or_predicted_full", SpreadJson(SpreadOf(covered_full))},
+                                {"mapped_or_predicted_skip", SpreadJson(SpreadOf(covered_skip))},
                                 {"hypotheses", JsonNumber(static_cast<double>(hypothesis_psi.size()))},
                                 {"mean_hypothesis_psi_truth", JsonNumber(mean_hypothesis_psi)},
-                                {"map_psi_full", JsonNumber(FiniteMean(map_psi_full))},
-                                {"map_psi_skip", JsonNumber(FiniteMean(map_psi_skip))},
-                                {"mapped_or_predicted_full", JsonNumber(FiniteMean(covered_full))},
-                                {"mapped_or_predicted_skip", JsonNumber(FiniteMean(covered_skip))},
-                                {"runs", JsonArray(rows)}}));
+                                {"pairs", JsonArray(rows)}}));
     }
     return 0;
   } catch (const std::exception& e) {
