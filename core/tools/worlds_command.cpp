@@ -1,5 +1,6 @@
 // `pslam worlds generate`: writes a generated floor plan (core/pslam/sim/floorplan.hpp) as a
 // map_server world, with its start pose in the YAML like the shipped worlds.
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <string>

@@ -3,10 +3,13 @@
 // room and corridor reachable from the start by the robot's inflated footprint (so every door is
 // passable), and a start the robot fits at.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "pslam/explore/distance_transform.hpp"
@@ -122,6 +125,27 @@ TEST(SimFloorPlanTest, WrittenFilesLoadWithTheirStart) {
   ASSERT_TRUE(start.has_value());
   EXPECT_NEAR(start->x, plan.start.x, 1e-6);
   EXPECT_NEAR(start->y, plan.start.y, 1e-6);
+}
+
+int RunCli(const std::string& arguments) {
+  const int status = std::system((std::string(PSLAM_CLI_BINARY) + " " + arguments + " >/dev/null 2>&1").c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(SimFloorPlanTest, CliWritesTheGeneratedWorldAndRefusesAnUnknownFamily) {
+  const std::filesystem::path dir = std::filesystem::path(testing::TempDir()) / "floorplan_cli";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  ASSERT_EQ(RunCli("worlds generate --family school --seed 4 --count 2 --out " + (dir / "s").string()), 0);
+  for (const std::uint64_t seed : {4, 5}) {
+    const std::string yaml = (dir / ("s_" + std::to_string(seed) + ".yaml")).string();
+    const FloorPlan plan = GenerateFloorPlan(FloorPlanFamily::kSchool, seed);
+    EXPECT_EQ(LoadWorld(yaml).Count(WorldCell::kFree), plan.world.Count(WorldCell::kFree));
+    ASSERT_TRUE(ReadStartPose(yaml).has_value());
+  }
+  EXPECT_EQ(RunCli("worlds generate --family castle --seed 1 --out " + (dir / "c").string()), 2);
+  EXPECT_FALSE(std::filesystem::exists(dir / "c.yaml"));
+  EXPECT_EQ(RunCli("experiment explore --generated castle --count 2"), 2);
 }
 
 TEST(SimFloorPlanTest, FamilyNamesRoundTrip) {
