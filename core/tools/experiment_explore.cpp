@@ -239,6 +239,7 @@ int RunExploreExperiment(CliArgs& cli) {
         PrintHeader();
         PrintRow(pair.full);
         PrintRow(pair.skip);
+        std::fflush(stdout);  // a population run takes hours: each pair shows as soon as it is done
         pairs.push_back(std::move(pair));
       }
     }
