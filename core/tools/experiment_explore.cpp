@@ -36,7 +36,8 @@ constexpr const char* kUsage =
     "  maps of the first run (.pgm/.yaml/.png).\n"
     "  Time saved is measured at equal coverage: both runs are timed to the share of the reachable free\n"
     "  area that full coverage mapped, less --coverage-tolerance (0.02); a skip run that never gets\n"
-    "  there saves 0. Pairs where a run hit --time-limit are listed but left out of the time figures.\n";
+    "  there saves 0. Pairs where a run hit --time-limit, or full coverage ended below 90 % of the\n"
+    "  reachable area, are listed but left out of the time figures.\n";
 
 struct ExploreRow {
   std::string name;
@@ -154,7 +155,11 @@ struct ExplorePair {
   ExploreRow full, skip;
   EqualCoverageSaving saving;
   bool time_limit = false;  // either run hit the time limit: listed, never averaged as finished
+  // Full coverage ended short of kCompleteCoverage (it gave its targets up): nothing to time against.
+  bool full_incomplete = false;
 };
+
+constexpr double kCompleteCoverage = 0.9;
 
 void PrintPairHeader() {
   std::printf("%-28s %4s %8s %8s %9s %9s %8s %8s %8s  %s\n", "world", "seed", "full_s", "skip_s", "cov_full",
@@ -167,6 +172,7 @@ void PrintPair(const ExplorePair& p) {
   if (p.skip.summary.state == ExplorationState::kTimeLimit) flags += "skip-hit-time-limit ";
   if (p.full.summary.state == ExplorationState::kStuck) flags += "full-stuck ";
   if (p.skip.summary.state == ExplorationState::kStuck) flags += "skip-stuck ";
+  if (p.full_incomplete) flags += "full-incomplete ";
   if (!p.saving.skip_reached) flags += "skip-below-equal-coverage(saved 0) ";
   char skip_time[32];
   if (p.saving.skip_reached) std::snprintf(skip_time, sizeof skip_time, "%.0f", p.saving.skip_time_s);
@@ -236,6 +242,7 @@ int RunExploreExperiment(CliArgs& cli) {
         pair.saving = CompareAtEqualCoverage(pair.full.coverage, pair.skip.coverage, tolerance);
         pair.time_limit = pair.full.summary.state == ExplorationState::kTimeLimit ||
                           pair.skip.summary.state == ExplorationState::kTimeLimit;
+        pair.full_incomplete = pair.full.mapped_or_predicted < kCompleteCoverage;
         PrintHeader();
         PrintRow(pair.full);
         PrintRow(pair.skip);
@@ -252,7 +259,7 @@ int RunExploreExperiment(CliArgs& cli) {
     // Population figures. Time figures only over pairs where neither run hit the time limit.
     std::vector<double> saved, equal_full, equal_skip, end_full, end_skip, merged_psi, hypothesis_psi, per_run_psi,
         per_run_good, covered_full, covered_skip, hypotheses, map_psi_full, map_psi_skip;
-    int time_limit_pairs = 0, full_limits = 0, skip_limits = 0, stopped_early = 0, judged = 0, judged_as_truth = 0;
+    int incomplete_pairs = 0, time_limit_pairs = 0, full_limits = 0, skip_limits = 0, stopped_early = 0, judged = 0, judged_as_truth = 0;
     for (const ExplorePair& p : pairs) {
       full_limits += p.full.summary.state == ExplorationState::kTimeLimit;
       skip_limits += p.skip.summary.state == ExplorationState::kTimeLimit;
@@ -271,8 +278,9 @@ int RunExploreExperiment(CliArgs& cli) {
       }
       judged += p.skip.judged;
       judged_as_truth += p.skip.judged_as_truth;
-      if (p.time_limit) {
-        ++time_limit_pairs;
+      if (p.time_limit || p.full_incomplete) {
+        time_limit_pairs += p.time_limit;
+        incomplete_pairs += p.full_incomplete && !p.time_limit;
         continue;
       }
       stopped_early += !p.saving.skip_reached;
@@ -289,6 +297,8 @@ int RunExploreExperiment(CliArgs& cli) {
     std::printf("\nover %zu pair(s); figures as mean +- std [min, max] (n)\n", pairs.size());
     std::printf("time limit hit           %d pair(s) (full %d, skip %d): listed above, left out of the time figures\n",
                 time_limit_pairs, full_limits, skip_limits);
+    std::printf("full coverage incomplete %d pair(s) ended below %.0f %% of the reachable area: left out too\n",
+                incomplete_pairs, 100.0 * kCompleteCoverage);
     std::printf("saved at equal coverage  %s %%  (%d skip run(s) never reached it: 0 saved)  (paper: 33 %%)\n",
                 SpreadText(saved_spread, 100.0, "%.1f").c_str(), stopped_early);
     std::printf("time to equal coverage   full %s s, skip %s s\n", SpreadText(SpreadOf(equal_full), 1.0, "%.0f").c_str(),
@@ -320,7 +330,8 @@ int RunExploreExperiment(CliArgs& cli) {
                                    {"skip_time_to_equal_s", JsonNumber(p.saving.skip_time_s)},
                                    {"skip_reached_equal_coverage", p.saving.skip_reached ? "true" : "false"},
                                    {"saved_fraction", JsonNumber(p.saving.saved_fraction)},
-                                   {"time_limit_hit", p.time_limit ? "true" : "false"}}));
+                                   {"time_limit_hit", p.time_limit ? "true" : "false"},
+                                   {"full_incomplete", p.full_incomplete ? "true" : "false"}}));
       }
       std::vector<std::string> world_names;
       for (const WorldChoice& w : worlds) world_names.push_back(JsonString(w.path));
@@ -339,6 +350,7 @@ int RunExploreExperiment(CliArgs& cli) {
                                 {"time_limit_s", JsonNumber(options.time_limit_s)},
                                 {"coverage_tolerance", JsonNumber(tolerance)},
                                 {"time_limit_pairs", JsonNumber(time_limit_pairs)},
+                                {"full_incomplete_pairs", JsonNumber(incomplete_pairs)},
                                 {"skip_below_equal_coverage", JsonNumber(stopped_early)},
                                 {"saved_at_equal_coverage", SpreadJson(saved_spread)},
                                 {"time_to_equal_full_s", SpreadJson(SpreadOf(equal_full))},
