@@ -1,38 +1,24 @@
 #include "pslam/filter/divergence_options.hpp"
 
-#include <charconv>
-#include <functional>
-#include <map>
+#include "pslam/common/option_table.hpp"
 
 namespace pslam {
 namespace {
 
-using Setter = std::function<std::string(DivergenceOptions&, const std::string&)>;
-
-template <typename T>
-Setter Field(T DivergenceOptions::*member) {
-  return [member](DivergenceOptions& o, const std::string& text) -> std::string {
-    const char* end = text.data() + text.size();
-    const auto [ptr, ec] = std::from_chars(text.data(), end, o.*member);
-    if (ec != std::errc() || ptr != end) return "not a number: '" + text + "'";
-    return "";
-  };
-}
-
-const std::map<std::string, Setter>& Setters() {
-  static const std::map<std::string, Setter> setters = {
-      {"collapse_window", Field(&DivergenceOptions::collapse_window)},
-      {"score_lost", Field(&DivergenceOptions::score_lost)},
-      {"weak_window", Field(&DivergenceOptions::weak_window)},
-      {"score_degraded", Field(&DivergenceOptions::score_degraded)},
-      {"neff_pinned", Field(&DivergenceOptions::neff_pinned)},
-      {"neff_pinned_updates", Field(&DivergenceOptions::neff_pinned_updates)},
-      {"jump_translation", Field(&DivergenceOptions::jump_translation)},
-      {"jump_rotation", Field(&DivergenceOptions::jump_rotation)},
-      {"jump_slip_speed", Field(&DivergenceOptions::jump_slip_speed)},
-      {"jump_slip_turn_rate", Field(&DivergenceOptions::jump_slip_turn_rate)},
-      {"jump_hold_seconds", Field(&DivergenceOptions::jump_hold_seconds)},
-      {"recover_seconds", Field(&DivergenceOptions::recover_seconds)},
+const OptionTable<DivergenceOptions>& Setters() {
+  static const OptionTable<DivergenceOptions> setters = {
+      {"collapse_window", Option(&DivergenceOptions::collapse_window)},
+      {"score_lost", Option(&DivergenceOptions::score_lost)},
+      {"weak_window", Option(&DivergenceOptions::weak_window)},
+      {"score_degraded", Option(&DivergenceOptions::score_degraded)},
+      {"neff_pinned", Option(&DivergenceOptions::neff_pinned)},
+      {"neff_pinned_updates", Option(&DivergenceOptions::neff_pinned_updates)},
+      {"jump_translation", Option(&DivergenceOptions::jump_translation)},
+      {"jump_rotation", Option(&DivergenceOptions::jump_rotation)},
+      {"jump_slip_speed", Option(&DivergenceOptions::jump_slip_speed)},
+      {"jump_slip_turn_rate", Option(&DivergenceOptions::jump_slip_turn_rate)},
+      {"jump_hold_seconds", Option(&DivergenceOptions::jump_hold_seconds)},
+      {"recover_seconds", Option(&DivergenceOptions::recover_seconds)},
   };
   return setters;
 }
@@ -40,16 +26,11 @@ const std::map<std::string, Setter>& Setters() {
 }  // namespace
 
 std::string SetDivergenceOption(DivergenceOptions& options, const std::string& name, const std::string& value) {
-  const auto it = Setters().find(name);
-  if (it == Setters().end()) return "unknown option '" + name + "'";
-  const std::string error = it->second(options, value);
-  return error.empty() ? "" : name + ": " + error;
+  return SetOption(Setters(), options, name, value);
 }
 
 std::vector<std::string> DivergenceOptionNames() {
-  std::vector<std::string> names;
-  for (const auto& [name, setter] : Setters()) names.push_back(name);
-  return names;
+  return OptionNames(Setters());
 }
 
 }  // namespace pslam

@@ -1,62 +1,41 @@
 #include "pslam/localize/mcl_options.hpp"
 
-#include <charconv>
-#include <functional>
-#include <map>
+#include "pslam/common/option_table.hpp"
 
 namespace pslam {
 namespace {
 
-using Setter = std::function<std::string(MclOptions&, const std::string&)>;
-
-template <typename T>
-std::string ParseNumber(const std::string& text, T& out) {
-  const char* end = text.data() + text.size();
-  const auto [ptr, ec] = std::from_chars(text.data(), end, out);
-  if (ec != std::errc() || ptr != end) return "not a number: '" + text + "'";
-  return "";
-}
-
-template <typename T>
-Setter Field(T MclOptions::*member) {
-  return [member](MclOptions& o, const std::string& v) { return ParseNumber(v, o.*member); };
-}
-template <typename Group, typename T>
-Setter Nested(Group MclOptions::*group, T Group::*member) {
-  return [group, member](MclOptions& o, const std::string& v) { return ParseNumber(v, (o.*group).*member); };
-}
-
-const std::map<std::string, Setter>& Setters() {
+const OptionTable<MclOptions>& Setters() {
   using L = LikelihoodFieldOptions;
-  static const std::map<std::string, Setter> setters = {
-      {"min_particles", Field(&MclOptions::min_particles)},
-      {"max_particles", Field(&MclOptions::max_particles)},
-      {"kld_err", Field(&MclOptions::kld_err)},
-      {"kld_z", Field(&MclOptions::kld_z)},
-      {"bin_size_xy", Field(&MclOptions::bin_size_xy)},
-      {"bin_size_theta", Field(&MclOptions::bin_size_theta)},
-      {"update_min_d", Field(&MclOptions::update_min_d)},
-      {"update_min_a", Field(&MclOptions::update_min_a)},
-      {"resample_threshold", Field(&MclOptions::resample_threshold)},
-      {"recovery_alpha_slow", Field(&MclOptions::recovery_alpha_slow)},
-      {"recovery_alpha_fast", Field(&MclOptions::recovery_alpha_fast)},
-      {"recovery_min_drop", Field(&MclOptions::recovery_min_drop)},
-      {"localized_weight", Field(&MclOptions::localized_weight)},
-      {"localized_position_std", Field(&MclOptions::localized_position_std)},
-      {"localized_heading_std", Field(&MclOptions::localized_heading_std)},
-      {"seed", Field(&MclOptions::seed)},
-      {"motion.rotation_per_rotation", Nested(&MclOptions::motion, &MotionNoise::rotation_per_rotation)},
-      {"motion.rotation_per_translation", Nested(&MclOptions::motion, &MotionNoise::rotation_per_translation)},
-      {"motion.translation_per_translation", Nested(&MclOptions::motion, &MotionNoise::translation_per_translation)},
-      {"motion.translation_per_rotation", Nested(&MclOptions::motion, &MotionNoise::translation_per_rotation)},
-      {"likelihood.sigma", Nested(&MclOptions::likelihood, &L::sigma)},
-      {"likelihood.z_hit", Nested(&MclOptions::likelihood, &L::z_hit)},
-      {"likelihood.z_rand", Nested(&MclOptions::likelihood, &L::z_rand)},
-      {"likelihood.max_distance", Nested(&MclOptions::likelihood, &L::max_distance)},
-      {"likelihood.occupied_probability", Nested(&MclOptions::likelihood, &L::occupied_probability)},
-      {"likelihood.max_beams", Nested(&MclOptions::likelihood, &L::max_beams)},
-      {"likelihood.temperature", Nested(&MclOptions::likelihood, &L::temperature)},
-      {"points.max_usable_range", Nested(&MclOptions::points, &ScanPointsOptions::max_usable_range)},
+  static const OptionTable<MclOptions> setters = {
+      {"min_particles", Option(&MclOptions::min_particles)},
+      {"max_particles", Option(&MclOptions::max_particles)},
+      {"kld_err", Option(&MclOptions::kld_err)},
+      {"kld_z", Option(&MclOptions::kld_z)},
+      {"bin_size_xy", Option(&MclOptions::bin_size_xy)},
+      {"bin_size_theta", Option(&MclOptions::bin_size_theta)},
+      {"update_min_d", Option(&MclOptions::update_min_d)},
+      {"update_min_a", Option(&MclOptions::update_min_a)},
+      {"resample_threshold", Option(&MclOptions::resample_threshold)},
+      {"recovery_alpha_slow", Option(&MclOptions::recovery_alpha_slow)},
+      {"recovery_alpha_fast", Option(&MclOptions::recovery_alpha_fast)},
+      {"recovery_min_drop", Option(&MclOptions::recovery_min_drop)},
+      {"localized_weight", Option(&MclOptions::localized_weight)},
+      {"localized_position_std", Option(&MclOptions::localized_position_std)},
+      {"localized_heading_std", Option(&MclOptions::localized_heading_std)},
+      {"seed", Option(&MclOptions::seed)},
+      {"motion.rotation_per_rotation", Option(&MclOptions::motion, &MotionNoise::rotation_per_rotation)},
+      {"motion.rotation_per_translation", Option(&MclOptions::motion, &MotionNoise::rotation_per_translation)},
+      {"motion.translation_per_translation", Option(&MclOptions::motion, &MotionNoise::translation_per_translation)},
+      {"motion.translation_per_rotation", Option(&MclOptions::motion, &MotionNoise::translation_per_rotation)},
+      {"likelihood.sigma", Option(&MclOptions::likelihood, &L::sigma)},
+      {"likelihood.z_hit", Option(&MclOptions::likelihood, &L::z_hit)},
+      {"likelihood.z_rand", Option(&MclOptions::likelihood, &L::z_rand)},
+      {"likelihood.max_distance", Option(&MclOptions::likelihood, &L::max_distance)},
+      {"likelihood.occupied_probability", Option(&MclOptions::likelihood, &L::occupied_probability)},
+      {"likelihood.max_beams", Option(&MclOptions::likelihood, &L::max_beams)},
+      {"likelihood.temperature", Option(&MclOptions::likelihood, &L::temperature)},
+      {"points.max_usable_range", Option(&MclOptions::points, &ScanPointsOptions::max_usable_range)},
   };
   return setters;
 }
@@ -64,16 +43,11 @@ const std::map<std::string, Setter>& Setters() {
 }  // namespace
 
 std::string SetMclOption(MclOptions& options, const std::string& name, const std::string& value) {
-  const auto it = Setters().find(name);
-  if (it == Setters().end()) return "unknown localization option '" + name + "'";
-  const std::string error = it->second(options, value);
-  return error.empty() ? error : name + ": " + error;
+  return SetOption(Setters(), options, name, value, "localization option");
 }
 
 std::vector<std::string> MclOptionNames() {
-  std::vector<std::string> names;
-  for (const auto& [name, setter] : Setters()) names.push_back(name);
-  return names;
+  return OptionNames(Setters());
 }
 
 std::string ValidateMclOptions(const MclOptions& o) {
