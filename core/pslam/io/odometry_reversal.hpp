@@ -3,10 +3,10 @@
 //
 // Some recorders add |tv| to the pose: when the robot backs up, the logged pose still moves
 // forward. The Freiburg 079 log does so every time the robot backs up (its ground-truth relations
-// move back), which alone put metres of error into its map. A step whose
-// logged velocity is negative at either end and positive at neither, but whose pose moved
-// forward, is re-integrated with its translation negated; everything after it follows the
-// repaired pose. Logs whose poses agree with their velocities pass through bit for bit.
+// move back), which alone put metres of error into its map. A step whose logged velocity is
+// negative at either end and positive at neither, but whose pose moved forward, is re-integrated
+// with its translation negated; everything after it follows the repaired pose. Logs whose poses
+// agree with their velocities pass through bit for bit.
 #include <cstddef>
 #include <optional>
 
