@@ -140,6 +140,42 @@ std::uint8_t BlockOccupancy(const OccupancyGrid& grid, int x0, int y0, int facto
   return best < 0 ? 255 : static_cast<std::uint8_t>(best);
 }
 
+// A box of cells coarsened by the smallest whole factor that brings it to at most max_cells.
+struct CoarseLayout {
+  int factor = 1;
+  int columns = 0;
+  int rows = 0;
+};
+
+CoarseLayout CoarsenToFit(const CellBox& box, std::size_t max_cells) {
+  CoarseLayout layout;
+  if (box.empty()) return layout;
+  const auto cells = [&](int f) {
+    return static_cast<std::size_t>((box.width() + f - 1) / f) * static_cast<std::size_t>((box.height() + f - 1) / f);
+  };
+  while (cells(layout.factor) > std::max<std::size_t>(max_cells, 1)) ++layout.factor;
+  layout.columns = (box.width() + layout.factor - 1) / layout.factor;
+  layout.rows = (box.height() + layout.factor - 1) / layout.factor;
+  return layout;
+}
+
+// A foxglove.Grid message in the map frame whose origin is the cell (x0, y0) of the given
+// resolution, lifted by z so that overlays draw above the map.
+std::string GridMessage(std::uint64_t ns, const CellBox& box, double resolution, double z, const CoarseLayout& layout,
+                        int stride, json fields, const std::string& data) {
+  const double x0 = box.empty() ? 0.0 : box.min.x() * resolution, y0 = box.empty() ? 0.0 : box.min.y() * resolution;
+  const double cell = resolution * layout.factor;
+  return Dump({{"timestamp", Time(ns)},
+               {"frame_id", kFoxgloveMapFrame},
+               {"pose", {{"position", {{"x", x0}, {"y", y0}, {"z", z}}}, {"orientation", Yaw(0.0)}}},
+               {"column_count", layout.columns},
+               {"cell_size", {{"x", cell}, {"y", cell}}},
+               {"row_stride", layout.columns * stride},
+               {"cell_stride", stride},
+               {"fields", std::move(fields)},
+               {"data", Base64Encode(data)}});
+}
+
 }  // namespace
 
 FoxgloveTopicInfo TopicInfo(FoxgloveTopic topic) {
@@ -188,43 +224,28 @@ std::array<std::uint8_t, kFoxgloveMessageHeader> MessageDataHeader(std::uint32_t
 
 std::string GridPayload(const OccupancyGrid& grid, std::uint64_t ns, std::size_t max_cells) {
   const CellBox known = grid.KnownBounds();
-  int factor = 1;
-  const auto cells = [&](int f) {
-    return static_cast<std::size_t>((known.width() + f - 1) / f) * static_cast<std::size_t>((known.height() + f - 1) / f);
-  };
-  while (!known.empty() && cells(factor) > std::max<std::size_t>(max_cells, 1)) ++factor;
-  const int columns = known.empty() ? 0 : (known.width() + factor - 1) / factor;
-  const int rows = known.empty() ? 0 : (known.height() + factor - 1) / factor;
+  const CoarseLayout layout = CoarsenToFit(known, max_cells);
+  const int factor = layout.factor;
   constexpr int kStride = 3;
-  std::string data(static_cast<std::size_t>(columns) * static_cast<std::size_t>(rows) * kStride, '\0');
-  for (int r = 0; r < rows; ++r) {
-    for (int c = 0; c < columns; ++c) {
+  std::string data(static_cast<std::size_t>(layout.columns) * static_cast<std::size_t>(layout.rows) * kStride, '\0');
+  for (int r = 0; r < layout.rows; ++r) {
+    for (int c = 0; c < layout.columns; ++c) {
       const std::uint8_t occupancy = BlockOccupancy(grid, known.min.x() + c * factor, known.min.y() + r * factor, factor);
-      const std::size_t at = (static_cast<std::size_t>(r) * static_cast<std::size_t>(columns) + static_cast<std::size_t>(c)) * kStride;
+      const std::size_t at =
+          (static_cast<std::size_t>(r) * static_cast<std::size_t>(layout.columns) + static_cast<std::size_t>(c)) * kStride;
       const bool unknown = occupancy == 255;
       data[at] = static_cast<char>(occupancy);
       data[at + 1] = static_cast<char>(unknown ? 0 : 255 - std::lround(occupancy * 2.55));  // free white, walls black
       data[at + 2] = static_cast<char>(unknown ? 0 : 255);
     }
   }
-  const double cell = grid.resolution() * factor;
-  const double x0 = known.empty() ? 0.0 : known.min.x() * grid.resolution();
-  const double y0 = known.empty() ? 0.0 : known.min.y() * grid.resolution();
   constexpr int kUint8 = 1;  // foxglove.NumericType
-  const json fields = json::array({{{"name", "occupancy"}, {"offset", 0}, {"type", kUint8}},
-                                   {{"name", "red"}, {"offset", 1}, {"type", kUint8}},
-                                   {{"name", "green"}, {"offset", 1}, {"type", kUint8}},
-                                   {{"name", "blue"}, {"offset", 1}, {"type", kUint8}},
-                                   {{"name", "alpha"}, {"offset", 2}, {"type", kUint8}}});
-  return Dump({{"timestamp", Time(ns)},
-               {"frame_id", kFoxgloveMapFrame},
-               {"pose", {{"position", {{"x", x0}, {"y", y0}, {"z", 0.0}}}, {"orientation", Yaw(0.0)}}},
-               {"column_count", columns},
-               {"cell_size", {{"x", cell}, {"y", cell}}},
-               {"row_stride", columns * kStride},
-               {"cell_stride", kStride},
-               {"fields", fields},
-               {"data", Base64Encode(data)}});
+  json fields = json::array({{{"name", "occupancy"}, {"offset", 0}, {"type", kUint8}},
+                             {{"name", "red"}, {"offset", 1}, {"type", kUint8}},
+                             {{"name", "green"}, {"offset", 1}, {"type", kUint8}},
+                             {{"name", "blue"}, {"offset", 1}, {"type", kUint8}},
+                             {{"name", "alpha"}, {"offset", 2}, {"type", kUint8}}});
+  return GridMessage(ns, known, grid.resolution(), 0.0, layout, kStride, std::move(fields), data);
 }
 
 std::string PredictionPayload(const std::vector<const HypothesisRecord*>& hypotheses, double resolution,
@@ -233,21 +254,16 @@ std::string PredictionPayload(const std::vector<const HypothesisRecord*>& hypoth
   for (const HypothesisRecord* h : hypotheses) {
     for (const PredictedCell& c : h->cells) box.Extend({c.x, c.y});
   }
-  int factor = 1;
-  const auto cells = [&](int f) {
-    return static_cast<std::size_t>((box.width() + f - 1) / f) * static_cast<std::size_t>((box.height() + f - 1) / f);
-  };
-  while (!box.empty() && cells(factor) > std::max<std::size_t>(max_cells, 1)) ++factor;
-  const int columns = box.empty() ? 0 : (box.width() + factor - 1) / factor;
-  const int rows = box.empty() ? 0 : (box.height() + factor - 1) / factor;
+  const CoarseLayout layout = CoarsenToFit(box, max_cells);
+  const int factor = layout.factor;
   constexpr int kStride = 5;
   constexpr std::uint8_t kWallAlpha = 230, kFreeAlpha = 70;
-  std::string data(static_cast<std::size_t>(columns) * static_cast<std::size_t>(rows) * kStride, '\0');
+  std::string data(static_cast<std::size_t>(layout.columns) * static_cast<std::size_t>(layout.rows) * kStride, '\0');
   for (const HypothesisRecord* h : hypotheses) {
     const auto psi = static_cast<char>(std::clamp(std::lround(h->psi * 100.0), 0L, 100L));
     for (const PredictedCell& c : h->cells) {
       const bool wall = c.occupancy >= 0.5f;
-      const std::size_t at = (static_cast<std::size_t>((c.y - box.min.y()) / factor) * static_cast<std::size_t>(columns) +
+      const std::size_t at = (static_cast<std::size_t>((c.y - box.min.y()) / factor) * static_cast<std::size_t>(layout.columns) +
                               static_cast<std::size_t>((c.x - box.min.x()) / factor)) * kStride;
       if (static_cast<std::uint8_t>(data[at + 3]) >= (wall ? kWallAlpha : kFreeAlpha)) continue;  // a wall wins
       data[at] = static_cast<char>(wall ? 240 : 90);
@@ -258,21 +274,12 @@ std::string PredictionPayload(const std::vector<const HypothesisRecord*>& hypoth
     }
   }
   constexpr int kUint8 = 1;  // foxglove.NumericType
-  const json fields = json::array({{{"name", "red"}, {"offset", 0}, {"type", kUint8}},
-                                   {{"name", "green"}, {"offset", 1}, {"type", kUint8}},
-                                   {{"name", "blue"}, {"offset", 2}, {"type", kUint8}},
-                                   {{"name", "alpha"}, {"offset", 3}, {"type", kUint8}},
-                                   {{"name", "psi"}, {"offset", 4}, {"type", kUint8}}});
-  const double x0 = box.empty() ? 0.0 : box.min.x() * resolution, y0 = box.empty() ? 0.0 : box.min.y() * resolution;
-  return Dump({{"timestamp", Time(ns)},
-               {"frame_id", kFoxgloveMapFrame},
-               {"pose", {{"position", {{"x", x0}, {"y", y0}, {"z", 0.01}}}, {"orientation", Yaw(0.0)}}},  // above the map
-               {"column_count", columns},
-               {"cell_size", {{"x", resolution * factor}, {"y", resolution * factor}}},
-               {"row_stride", columns * kStride},
-               {"cell_stride", kStride},
-               {"fields", fields},
-               {"data", Base64Encode(data)}});
+  json fields = json::array({{{"name", "red"}, {"offset", 0}, {"type", kUint8}},
+                             {{"name", "green"}, {"offset", 1}, {"type", kUint8}},
+                             {{"name", "blue"}, {"offset", 2}, {"type", kUint8}},
+                             {{"name", "alpha"}, {"offset", 3}, {"type", kUint8}},
+                             {{"name", "psi"}, {"offset", 4}, {"type", kUint8}}});
+  return GridMessage(ns, box, resolution, 0.01, layout, kStride, std::move(fields), data);  // above the map
 }
 
 std::string PoseInFramePayload(const Pose2D& pose, std::uint64_t ns) {
