@@ -19,11 +19,11 @@ Result<std::unique_ptr<App>> App::Create(ServerOptions options) {
   std::error_code ec;
   std::filesystem::create_directories(o.data_dir, ec);
   if (ec) return Error{"cannot create the data directory " + o.data_dir.string() + ": " + ec.message()};
-  const std::string db_path = (o.data_dir / "pslam.sqlite").string();
-  auto writer = StorageWriter::Open(db_path, o.sqlite_synchronous_full);
+  const StorageLocation storage = StorageOf(o);
+  auto writer = StorageWriter::Open(storage);
   if (!writer) return Error{"storage: " + writer.error()};
   app->writer_ = std::move(writer.value());
-  app->reads_ = std::make_unique<ReadPool>(db_path);
+  app->reads_ = std::make_unique<ReadPool>(storage);
 
   ServiceOptions service;
   service.defaults = o.session_defaults;

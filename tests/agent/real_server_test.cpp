@@ -1,7 +1,7 @@
 // End to end against the real pslam-server binary (built by this project; its path comes from
 // CMake as PSLAM_SERVER_BINARY): an Intel log slice streamed by the agent, the server killed with
-// SIGKILL mid-stream and restarted on the same port and data directory, and every scan stored
-// exactly once.
+// SIGKILL mid-stream and restarted on the same port and storage (a SQLite file, or a PostgreSQL
+// server on loopback), and every scan stored exactly once.
 #ifdef PSLAM_SERVER_BINARY
 
 #include <gtest/gtest.h>
@@ -15,6 +15,7 @@
 
 #include "agent.hpp"
 #include "server/support/server_process.hpp"
+#include "server/support/test_services.hpp"
 #include "server_rest.hpp"
 #include "sources/log_source.hpp"
 #include "sources/sim_source.hpp"
@@ -33,12 +34,23 @@ nlohmann::json GetJson(unsigned short port, const std::string& target) {
   return testing::GetJson(port, target, "viewer-secret-1");
 }
 
-TEST(RealServerTest, ServerKilledMidStreamAndRestartedStoresEveryScanExactlyOnce) {
+// The server's storage engine: "Sqlite" (its data directory) or "Postgres" (--postgres URL).
+class RealServerOnEachStorage : public ::testing::TestWithParam<std::string> {};
+
+INSTANTIATE_TEST_SUITE_P(Engines, RealServerOnEachStorage, ::testing::Values("Sqlite", "Postgres"),
+                         [](const auto& info) { return info.param; });
+
+TEST_P(RealServerOnEachStorage, ServerKilledMidStreamAndRestartedStoresEveryScanExactlyOnce) {
   PSLAM_REQUIRE_DATA(log, "intel/intel.clf");
   TempDir dir;
   const auto data = dir.path() / "data";
-  const std::vector<std::string> args = {"--agent-token", "agent-secret-1", "--viewer-token", "viewer-secret-1",
-                                         "--particles", "4", "--predict", "off"};
+  std::vector<std::string> args = {"--agent-token", "agent-secret-1", "--viewer-token", "viewer-secret-1",
+                                   "--particles", "4", "--predict", "off"};
+  std::optional<server::testing::TestPostgresDatabase> postgres;
+  if (GetParam() == "Postgres") {
+    postgres.emplace();
+    args.insert(args.end(), {"--postgres", postgres->url()});
+  }
   auto server = std::make_unique<ServerProcess>(data, args);
   const unsigned short port = server->port();
 

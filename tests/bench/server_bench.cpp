@@ -53,6 +53,7 @@ using nlohmann::json;
 
 struct Options {
   std::string server = PSLAM_SERVER_BINARY;
+  std::string postgres;         // empty: the server's SQLite file
   std::string log = std::string(PSLAM_SHARED_DATA_DIR) + "/intel/intel.clf";
   double speed = 1.0;           // x real time; 0: as fast as the server admits
   std::size_t scans = 1500;     // scans streamed in the latency and viewers phases (~297 s of Intel log)
@@ -75,6 +76,7 @@ struct Options {
 
 const char* const kUsage = R"(usage: pslam-server-bench [options]
   --server PATH          pslam-server binary (default: the build's)
+  --postgres URL         store on this PostgreSQL database instead of the data directory's SQLite file
   --log PATH             CARMEN log (default: shared/data/intel/intel.clf)
   --speed F              stream at F x the log's real rate (default 1; 0 = as fast as admitted)
   --scans N              scans per streamed run (default 1500, ~5 min of Intel log at 1x)
@@ -108,6 +110,8 @@ Options ParseOptions(int argc, char** argv) {
       std::exit(0);
     } else if (a == "--server") {
       o.server = need(i);
+    } else if (a == "--postgres") {
+      o.postgres = need(i);
     } else if (a == "--log") {
       o.log = need(i);
     } else if (a == "--speed") {
@@ -1132,8 +1136,9 @@ int Main(int argc, char** argv) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir / "data");
   const std::filesystem::path server_log = dir / "server.log";
-  const std::vector<std::string> server_args = {"--replay-dir", std::filesystem::absolute(o.log).parent_path().string(),
-                                                "--particles", std::to_string(o.particles)};
+  std::vector<std::string> server_args = {"--replay-dir", std::filesystem::absolute(o.log).parent_path().string(),
+                                          "--particles", std::to_string(o.particles)};
+  if (!o.postgres.empty()) server_args.insert(server_args.end(), {"--postgres", o.postgres});
   const std::string load_before = LoadAverage();
   std::cerr << "server " << o.server << " (data " << dir << ", log " << server_log << "), load average " << load_before << "\n";
   json out = {{"command", [&] {
@@ -1142,6 +1147,7 @@ int Main(int argc, char** argv) {
                  return c;
                }()},
               {"server", o.server},
+              {"storage", o.postgres.empty() ? "sqlite" : "postgres"},
               {"log", o.log},
               {"particles", o.particles},
               {"predict", o.predict.empty() ? "server default" : o.predict},

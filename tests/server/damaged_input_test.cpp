@@ -13,7 +13,7 @@
 #include "server/support/server_process.hpp"
 #include "server/support/temp_dir.hpp"
 #include "storage/read_pool.hpp"
-#include "storage/sqlite.hpp"
+#include "storage/database.hpp"
 
 namespace pslam::server::testing {
 namespace {
@@ -79,7 +79,7 @@ TEST(DamagedInputTest, FailsOnlyItsSessionWithAClearErrorAndKeepsTheInputs) {
   EXPECT_NE((*refusal)["message"].get<std::string>().find("has failed"), std::string::npos) << refusal->dump();
 
   // Nothing stored was lost, and the other session resumed as if nothing happened.
-  ReadPool reads((data / "pslam.sqlite").string());
+  ReadPool reads(StorageLocation{StorageKind::kSqlite, (data / "pslam.sqlite").string()});
   EXPECT_EQ(reads.Acquire()->repository().LoadInputs(damaged, 0, 100).size(), 20u);
   EXPECT_EQ(WaitForStatus(restarted.port(), healthy, "active"), "active");
   bool processed = false;

@@ -50,7 +50,7 @@ TEST(IngestTest, AcknowledgedInputsAreInTheDatabase) {
   }
   ASSERT_EQ(WaitForAck(agent, seq), seq);
   // Acknowledged means committed: a separate connection to the file sees every input.
-  ReadPool reads((dir.path() / "data" / "pslam.sqlite").string());
+  ReadPool reads(StorageLocation{StorageKind::kSqlite, (dir.path() / "data" / "pslam.sqlite").string()});
   auto lease = reads.Acquire();
   EXPECT_EQ(lease->repository().LastInputSeq(id), seq);
   EXPECT_EQ(lease->repository().LoadInputs(id, 0, 1000).size(), static_cast<std::size_t>(seq));

@@ -12,7 +12,7 @@
 #include "server/support/clients.hpp"
 #include "server/support/server_process.hpp"
 #include "server/support/temp_dir.hpp"
-#include "storage/sqlite.hpp"
+#include "storage/database.hpp"
 
 namespace pslam::server::testing {
 namespace {

@@ -1,11 +1,16 @@
-// Storage: migrations, the repository's round-trips, and the group-committing writer.
+// The storage contract, run against both engines: SQLite (a real file) and PostgreSQL (a real
+// server on loopback, tests/server/support/test_services.hpp): migrations, the repository's
+// round-trips, and the group-committing writer. Both must give the same answers.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <memory>
 
 #include "server/support/temp_dir.hpp"
+#include "server/support/test_services.hpp"
 #include "storage/migrate.hpp"
 #include "storage/read_pool.hpp"
 #include "storage/session_repository.hpp"
@@ -23,35 +28,70 @@ SessionRow NewSession(const std::string& id, const std::string& name, double cre
   return row;
 }
 
-TEST(MigrateTest, AppliesOnceAndRecordsUserVersion) {
-  testing::TempDir dir;
-  Database db = Database::Open(dir.path() / "db.sqlite", Database::Mode::kReadWrite);
-  const int version = ApplyMigrations(db, EmbeddedMigrations());
-  EXPECT_EQ(version, static_cast<int>(EmbeddedMigrations().size()));
+// A fresh, empty database of the engine under test.
+class StorageContract : public ::testing::TestWithParam<StorageKind> {
+ protected:
+  void SetUp() override {
+    if (GetParam() == StorageKind::kPostgres) {
+      postgres_ = std::make_unique<testing::TestPostgresDatabase>();
+      where_ = {StorageKind::kPostgres, postgres_->url()};
+    } else {
+      where_ = {StorageKind::kSqlite, (dir_.path() / "db.sqlite").string()};
+    }
+  }
+  Database Open() { return Database::Open(where_, Database::Mode::kReadWrite); }
+  Database OpenMigrated() {
+    Database db = Open();
+    ApplyMigrations(db, EmbeddedMigrations(GetParam()));
+    return db;
+  }
+  const StorageLocation& where() const { return where_; }
+
+ private:
+  testing::TempDir dir_;
+  std::unique_ptr<testing::TestPostgresDatabase> postgres_;
+  StorageLocation where_;
+};
+
+INSTANTIATE_TEST_SUITE_P(Engines, StorageContract, ::testing::Values(StorageKind::kSqlite, StorageKind::kPostgres),
+                         [](const auto& info) { return info.param == StorageKind::kSqlite ? "Sqlite" : "Postgres"; });
+
+TEST(MigrationsTest, BothEnginesHaveTheSameVersionsAndNames) {
+  const auto& sqlite = EmbeddedMigrations(StorageKind::kSqlite);
+  const auto& postgres = EmbeddedMigrations(StorageKind::kPostgres);
+  ASSERT_FALSE(sqlite.empty());
+  ASSERT_EQ(sqlite.size(), postgres.size());
+  for (std::size_t i = 0; i < sqlite.size(); ++i) {
+    EXPECT_EQ(sqlite[i].version, postgres[i].version);
+    EXPECT_EQ(sqlite[i].name, postgres[i].name);
+    EXPECT_NE(sqlite[i].sql, postgres[i].sql);  // each in its engine's dialect
+  }
+}
+
+TEST_P(StorageContract, MigrationsApplyOnceAndRecordTheVersion) {
+  Database db = Open();
+  const int version = ApplyMigrations(db, EmbeddedMigrations(GetParam()));
+  EXPECT_EQ(version, static_cast<int>(EmbeddedMigrations(GetParam()).size()));
   EXPECT_EQ(SchemaVersion(db), version);
-  EXPECT_EQ(ApplyMigrations(db, EmbeddedMigrations()), version);  // idempotent
+  EXPECT_EQ(ApplyMigrations(db, EmbeddedMigrations(GetParam())), version);  // idempotent
 }
 
-TEST(MigrateTest, RefusesADatabaseNewerThanTheServer) {
-  testing::TempDir dir;
-  Database db = Database::Open(dir.path() / "db.sqlite", Database::Mode::kReadWrite);
-  db.Exec("PRAGMA user_version = 999");
-  EXPECT_THROW(ApplyMigrations(db, EmbeddedMigrations()), std::runtime_error);
+TEST_P(StorageContract, MigrationsRefuseADatabaseNewerThanTheServer) {
+  Database db = Open();
+  db.engine().SetSchemaVersion(999);
+  EXPECT_THROW(ApplyMigrations(db, EmbeddedMigrations(GetParam())), std::runtime_error);
 }
 
-TEST(MigrateTest, AFailingMigrationLeavesThePreviousVersion) {
-  testing::TempDir dir;
-  Database db = Database::Open(dir.path() / "db.sqlite", Database::Mode::kReadWrite);
+TEST_P(StorageContract, AFailingMigrationLeavesThePreviousVersion) {
+  Database db = Open();
   std::vector<Migration> migrations = {{1, "0001_a.sql", "CREATE TABLE a (x INTEGER);"},
                                        {2, "0002_b.sql", "CREATE TABLE b (x INTEGER); THIS IS NOT SQL;"}};
-  EXPECT_THROW(ApplyMigrations(db, migrations), SqliteError);
+  EXPECT_THROW(ApplyMigrations(db, migrations), StorageError);
   EXPECT_EQ(SchemaVersion(db), 1);
 }
 
-TEST(SessionRepositoryTest, InputsAreStoredOnceAndLoadInOrder) {
-  testing::TempDir dir;
-  Database db = Database::Open(dir.path() / "db.sqlite", Database::Mode::kReadWrite);
-  ApplyMigrations(db, EmbeddedMigrations());
+TEST_P(StorageContract, InputsAreStoredOnceAndLoadInOrder) {
+  Database db = OpenMigrated();
   SessionRepository repo(db);
   repo.CreateSession(NewSession("s-1", "one", 1.0));
   InputRecord scan;
@@ -80,10 +120,8 @@ TEST(SessionRepositoryTest, InputsAreStoredOnceAndLoadInOrder) {
   EXPECT_EQ(repo.LoadInputs("s-1", 1, 10).size(), 1u);
 }
 
-TEST(SessionRepositoryTest, FiltersTreatMetacharactersAsText) {
-  testing::TempDir dir;
-  Database db = Database::Open(dir.path() / "db.sqlite", Database::Mode::kReadWrite);
-  ApplyMigrations(db, EmbeddedMigrations());
+TEST_P(StorageContract, FiltersTreatMetacharactersAsText) {
+  Database db = OpenMigrated();
   SessionRepository repo(db);
   repo.CreateSession(NewSession("s-1", "lab 100%", 1.0));
   repo.CreateSession(NewSession("s-2", "office", 2.0));
@@ -104,10 +142,8 @@ TEST(SessionRepositoryTest, FiltersTreatMetacharactersAsText) {
   EXPECT_EQ(second.sessions[0].id, "s-1");  // newest first
 }
 
-TEST(SessionRepositoryTest, HypothesesRoundTripWithHistoryAndFilters) {
-  testing::TempDir dir;
-  Database db = Database::Open(dir.path() / "db.sqlite", Database::Mode::kReadWrite);
-  ApplyMigrations(db, EmbeddedMigrations());
+TEST_P(StorageContract, HypothesesRoundTripWithHistoryAndFilters) {
+  Database db = OpenMigrated();
   SessionRepository repo(db);
   repo.CreateSession(NewSession("s-1", "one", 1.0));
   HypothesisRecord h;
@@ -153,10 +189,74 @@ TEST(SessionRepositoryTest, HypothesesRoundTripWithHistoryAndFilters) {
   EXPECT_EQ(counts.refuted, 0);
 }
 
-TEST(StorageWriterTest, CommitsBeforeCallingBackAndIsolatesFailingJobs) {
-  testing::TempDir dir;
-  const std::string path = dir.path() / "db.sqlite";
-  auto writer = StorageWriter::Open(path, true);
+TEST_P(StorageContract, CheckpointsSessionsAndEventsRoundTripExactly) {
+  Database db = OpenMigrated();
+  SessionRepository repo(db);
+  SessionRow row = NewSession("s-1", "lab", 1700000000.123456789);
+  row.replay_of = "intel";
+  repo.CreateSession(row);
+  Checkpoint c;
+  c.session_id = "s-1";
+  c.processed_seq = 12;
+  c.scans = 5;
+  c.stats_json = R"({"scans":5})";
+  c.tiles = {{0, 0, 64, 1, {1, 2, 3}}, {-1, 2, 64, 1, {}}};
+  c.trajectory = {{0, 2, 0.1, "0.100000", 1.0 / 3.0, -2.5, 3.0}, {1, 4, 0.2, "", 1e-300, 0.0, -0.0}};
+  repo.WriteCheckpoint(c, 10.0);
+  c.tiles = {{0, 0, 64, 2, {9}}};  // a changed tile replaces the stored one
+  c.trajectory = {{1, 4, 0.2, "", 7.0, 7.0, 7.0}};
+  repo.WriteCheckpoint(c, 11.0);
+
+  const auto tiles = repo.LoadTiles("s-1");
+  ASSERT_EQ(tiles.size(), 2u);
+  EXPECT_EQ(tiles[1].tx, -1);  // ordered by ty, tx
+  EXPECT_TRUE(tiles[1].data.empty());
+  EXPECT_EQ(repo.LoadTile("s-1", 0, 0)->data, std::vector<std::uint8_t>{9});
+  EXPECT_EQ(repo.LoadTile("s-1", 0, 0)->revision, 2);
+  EXPECT_FALSE(repo.LoadTile("s-1", 5, 5));
+  const auto trajectory = repo.LoadTrajectory("s-1", 0, 10);
+  ASSERT_EQ(trajectory.size(), 2u);
+  EXPECT_EQ(trajectory[0].x, 1.0 / 3.0);  // bit for bit
+  EXPECT_EQ(trajectory[0].stamp, "0.100000");
+  EXPECT_EQ(trajectory[1].x, 7.0);
+  EXPECT_EQ(trajectory[1].stamp, "");
+
+  auto stored = repo.GetSession("s-1");
+  ASSERT_TRUE(stored);
+  EXPECT_EQ(stored->created_at, 1700000000.123456789);
+  EXPECT_EQ(stored->replay_of, "intel");
+  EXPECT_EQ(stored->processed_seq, 12);
+  EXPECT_EQ(stored->stats_json, R"({"scans":5})");
+  EXPECT_FALSE(stored->closed_at);
+  repo.SetFailed("s-1", "it's broken; \"quoted\"", 20.0);
+  repo.SetRebuilds("s-1", 3, 40);
+  stored = repo.GetSession("s-1");
+  EXPECT_EQ(stored->status, "failed");
+  EXPECT_EQ(stored->closed_at, 20.0);
+  EXPECT_EQ(stored->failure, "it's broken; \"quoted\"");
+  EXPECT_EQ(stored->rebuilds, 3);
+  EXPECT_EQ(repo.SessionIdsWithStatus("failed"), std::vector<std::string>{"s-1"});
+  repo.SetStatus("s-1", "active", 21.0);
+  EXPECT_FALSE(repo.GetSession("s-1")->closed_at);
+
+  repo.AddEvent("s-1", "opened", "{}", 1.0);
+  repo.AddEvent(std::nullopt, "refused", R"({"status":401})", 2.0);
+  repo.AddEvent("s-1", "closed", "{}", 3.0);
+  const auto events = repo.ListEvents("s-1", 10, 0);
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(events[0].kind, "closed");  // newest first
+  ASSERT_EQ(repo.ListEvents(std::nullopt, 10, 0).size(), 1u);
+  EXPECT_EQ(repo.ListEvents(std::nullopt, 10, 0)[0].detail_json, R"({"status":401})");
+
+  EXPECT_TRUE(repo.DeleteSession("s-1"));
+  EXPECT_FALSE(repo.DeleteSession("s-1"));
+  EXPECT_FALSE(repo.GetSession("s-1"));
+  EXPECT_TRUE(repo.LoadTiles("s-1").empty());  // cascaded
+  EXPECT_TRUE(repo.ListEvents("s-1", 10, 0).empty());
+}
+
+TEST_P(StorageContract, WriterCommitsBeforeCallingBackAndIsolatesFailingJobs) {
+  auto writer = StorageWriter::Open(where());
   ASSERT_TRUE(writer) << writer.error();
   writer.value()->Execute([](SessionRepository& repo) { repo.CreateSession(NewSession("s-1", "one", 1.0)); });
   std::atomic<int> ok{0}, failed{0};
@@ -172,7 +272,7 @@ TEST(StorageWriterTest, CommitsBeforeCallingBackAndIsolatesFailingJobs) {
   writer.value()->Execute([](SessionRepository&) {});
   EXPECT_EQ(ok.load(), 49);
   EXPECT_EQ(failed.load(), 1);
-  ReadPool pool(path);
+  ReadPool pool(where());
   EXPECT_EQ(pool.Acquire()->repository().LastInputSeq("s-1"), 50);
   EXPECT_EQ(pool.Acquire()->repository().LoadInputs("s-1", 0, 100).size(), 49u);
   writer.value()->Stop();

@@ -18,6 +18,7 @@ const char* const kUsage =
     "                    [--hello-timeout S] [--max-agent-sockets N] [--max-viewer-sockets N]\n"
     "                    [--max-sockets-per-token N]\n"
     "                    [--checkpoint-seconds S] [--sqlite-sync full|normal] [--on-restart resume|close]\n"
+    "                    [--postgres URL]\n"
     "                    [--session-memory-mb N]\n"
     "  Listens on 127.0.0.1:8080 by default; port 0 picks a free port. Beyond loopback, agent (write)\n"
     "  and viewer (read) tokens are required. Flags override the config file (JSON, see\n"
@@ -67,6 +68,16 @@ void ApplyConfigFile(const std::filesystem::path& path, ServerOptions& o) {
   if (auto v = f.String("sqlite_synchronous")) {
     if (*v != "full" && *v != "normal") f.Fail("sqlite_synchronous", "must be full or normal");
     o.sqlite_synchronous_full = *v == "full";
+  }
+  if (const nlohmann::json* storage = f.Object("storage")) {
+    JsonFields s(*storage, "config.storage");
+    const auto kind = s.String("kind");
+    const auto url = s.String("url", 4096);
+    if (kind && *kind != "sqlite" && *kind != "postgres") s.Fail("kind", "must be sqlite or postgres");
+    if (kind == "postgres" && !url) s.Fail("url", "is required with kind postgres");
+    if (kind != "postgres" && url) s.Fail("url", "is only for kind postgres");
+    o.postgres_url = kind == "postgres" ? url : std::nullopt;
+    s.RejectUnknown();
   }
   if (auto v = f.String("on_restart")) {
     if (*v != "resume" && *v != "close") f.Fail("on_restart", "must be resume or close");
@@ -143,6 +154,11 @@ Result<ParsedCommandLine> ParseCommandLine(const std::vector<std::string>& args,
         if (!ParseListen(value, o)) return Error{"--listen must be HOST:PORT"};
       } else if (flag == "--data") {
         o.data_dir = value;
+      } else if (flag == "--postgres") {
+        if (value.rfind("postgres://", 0) != 0 && value.rfind("postgresql://", 0) != 0) {
+          return Error{"--postgres must be a URL postgresql://USER@HOST:PORT/DATABASE"};
+        }
+        o.postgres_url = value;
       } else if (flag == "--web") {
         o.web_dir = std::filesystem::path(value);
       } else if (flag == "--replay-dir") {
@@ -211,6 +227,11 @@ Result<ParsedCommandLine> ParseCommandLine(const std::vector<std::string>& args,
     }
   }
   return parsed;
+}
+
+StorageLocation StorageOf(const ServerOptions& o) {
+  if (o.postgres_url) return {StorageKind::kPostgres, *o.postgres_url};
+  return {StorageKind::kSqlite, (o.data_dir / "pslam.sqlite").string(), o.sqlite_synchronous_full};
 }
 
 std::optional<std::string> ValidateOptions(const ServerOptions& o) {

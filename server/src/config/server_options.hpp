@@ -12,6 +12,7 @@
 #include "model/session_settings.hpp"
 #include "net/server_context.hpp"
 #include "service/settings_codec.hpp"
+#include "storage/database.hpp"
 
 namespace pslam::server {
 
@@ -19,6 +20,7 @@ struct ServerOptions {
   std::string host = "127.0.0.1";
   unsigned short port = 8080;                       // 0: any free port (printed at start)
   std::filesystem::path data_dir = "pslam-data";    // holds pslam.sqlite
+  std::optional<std::string> postgres_url;          // storage on PostgreSQL instead of SQLite
   std::optional<std::filesystem::path> web_dir;     // default: web/dist of the source tree, if found
   std::optional<std::filesystem::path> replay_dir;  // logs, relations and reference maps for replays
   int io_threads = 2;
@@ -49,6 +51,8 @@ inline constexpr const char* kPlaceholderTokenPrefix = "change-me";
 // beyond loopback.
 std::optional<std::string> ValidateOptions(const ServerOptions& options);
 bool IsLoopback(const std::string& host);
+// Where the options say the data lives: PostgreSQL if a URL is given, else data_dir/pslam.sqlite.
+StorageLocation StorageOf(const ServerOptions& options);
 
 extern const char* const kUsage;
 

@@ -4,11 +4,7 @@
 
 namespace pslam::server {
 
-int SchemaVersion(Database& db) {
-  Statement s = db.Prepare("PRAGMA user_version");
-  s.Step();
-  return s.Int(0);
-}
+int SchemaVersion(Database& db) { return db.engine().SchemaVersion(); }
 
 int ApplyMigrations(Database& db, const std::vector<Migration>& migrations) {
   for (std::size_t i = 0; i < migrations.size(); ++i) {
@@ -26,7 +22,7 @@ int ApplyMigrations(Database& db, const std::vector<Migration>& migrations) {
     if (m.version <= version) continue;
     Transaction tx(db);
     db.Exec(m.sql);
-    db.Exec("PRAGMA user_version = " + std::to_string(m.version));  // an integer we own, not input
+    db.engine().SetSchemaVersion(m.version);
     tx.Commit();
     version = m.version;
   }

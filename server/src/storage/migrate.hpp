@@ -1,12 +1,14 @@
 #pragma once
-// Versioned schema migrations: schema/db/NNNN_description.sql, compiled into the binary and
-// applied in order at start-up. PRAGMA user_version records the last one applied; each migration
-// runs in its own transaction together with the user_version bump, so a crash mid-way leaves the
-// database at the previous version, never in between.
+// Versioned schema migrations: schema/db/NNNN_description.sql for SQLite and
+// schema/db/postgres/NNNN_description.sql for PostgreSQL (the same versions, each in its engine's
+// dialect), compiled into the binary and applied in order at start-up. The database records the
+// last one applied (SQLite: PRAGMA user_version; PostgreSQL: table schema_version); each migration
+// runs in its own transaction together with that bump, so a crash mid-way leaves the database at
+// the previous version, never in between.
 #include <string>
 #include <vector>
 
-#include "storage/sqlite.hpp"
+#include "storage/database.hpp"
 
 namespace pslam::server {
 
@@ -16,12 +18,12 @@ struct Migration {
   std::string sql;
 };
 
-// The migrations of schema/db (generated at build time).
-const std::vector<Migration>& EmbeddedMigrations();
+// The migrations of schema/db for that engine (generated at build time).
+const std::vector<Migration>& EmbeddedMigrations(StorageKind kind = StorageKind::kSqlite);
 
 int SchemaVersion(Database& db);
 
-// Applies every migration newer than the database's user_version. Throws SqliteError on a failed
+// Applies every migration newer than the database's recorded version. Throws StorageError on a failed
 // migration, and std::runtime_error if the database is newer than the migrations (a downgrade) or
 // the versions are not 1, 2, 3, ... Returns the resulting version.
 int ApplyMigrations(Database& db, const std::vector<Migration>& migrations);

@@ -15,9 +15,10 @@ std::unique_ptr<ReadPool::Lease> ReadPool::Acquire() {
     }
   }
   if (!db) {
-    db = std::make_unique<Database>(Database::Open(path_, Database::Mode::kReadWrite));
-    // Read-write so WAL shared memory works in every case, but refusing writes: readers only read.
-    db->Exec("PRAGMA query_only = 1");
+    db = std::make_unique<Database>(Database::Open(where_, Database::Mode::kReadWrite));
+    // Read-write so SQLite's WAL shared memory works in every case, but refusing writes: readers only read.
+    db->Exec(db->kind() == StorageKind::kSqlite ? "PRAGMA query_only = 1"
+                                                : "SET SESSION CHARACTERISTICS AS TRANSACTION READ ONLY");
   }
   return std::make_unique<Lease>(*this, std::move(db));
 }

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "storage/session_repository.hpp"
-#include "storage/sqlite.hpp"
+#include "storage/database.hpp"
 
 namespace pslam::server {
 
@@ -27,14 +27,14 @@ class ReadPool {
     SessionRepository repository_;
   };
 
-  explicit ReadPool(std::string path) : path_(std::move(path)) {}
-  // Throws SqliteError if a new connection cannot be opened.
+  explicit ReadPool(StorageLocation where) : where_(std::move(where)) {}
+  // Throws StorageError if a new connection cannot be opened.
   std::unique_ptr<Lease> Acquire();
 
  private:
   void Release(std::unique_ptr<Database> db);
 
-  std::string path_;
+  StorageLocation where_;
   std::mutex mutex_;
   std::vector<std::unique_ptr<Database>> idle_;
 };

@@ -227,8 +227,8 @@ void SessionRepository::SetMetrics(const std::string& id, const std::string& met
 
 void SessionRepository::InsertInput(const std::string& session_id, const InputRecord& in) {
   Statement s = db_.Prepare(
-      "INSERT OR IGNORE INTO inputs (session_id, seq, kind, t, x, y, theta, v, w, ranges, stamp) "
-      "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+      "INSERT INTO inputs (session_id, seq, kind, t, x, y, theta, v, w, ranges, stamp) "
+      "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) ON CONFLICT DO NOTHING");
   s.BindAll(session_id, in.seq, static_cast<int>(in.kind), in.t, in.x, in.y, in.theta, in.v, in.w);
   if (in.kind == InputKind::kScan) {
     s.Bind(10, std::span<const std::uint8_t>(RangesBlob(in.ranges)));
@@ -282,12 +282,13 @@ std::vector<InputRecord> SessionRepository::LoadInputs(const std::string& sessio
 }
 
 void SessionRepository::WriteCheckpoint(const Checkpoint& c, double now) {
-  db_.Prepare(
-         "INSERT INTO map_snapshots (session_id, created_at, processed_seq, scans, resolution, tiles_written) "
-         "VALUES (?, ?, ?, ?, ?, ?)")
-      .BindAll(c.session_id, now, c.processed_seq, c.scans, c.resolution, static_cast<std::int64_t>(c.tiles.size()))
-      .Run();
-  const std::int64_t snapshot_id = db_.LastInsertRowid();
+  Statement snapshot = db_.Prepare(
+      "INSERT INTO map_snapshots (session_id, created_at, processed_seq, scans, resolution, tiles_written) "
+      "VALUES (?, ?, ?, ?, ?, ?) RETURNING id");
+  snapshot.BindAll(c.session_id, now, c.processed_seq, c.scans, c.resolution, static_cast<std::int64_t>(c.tiles.size()));
+  snapshot.Step();
+  const std::int64_t snapshot_id = snapshot.Int64(0);
+  snapshot.Run();
   {
     Statement s = db_.Prepare(
         "INSERT INTO map_tiles (session_id, tx, ty, size, revision, snapshot_id, data) VALUES (?, ?, ?, ?, ?, ?, ?) "
@@ -303,8 +304,9 @@ void SessionRepository::WriteCheckpoint(const Checkpoint& c, double now) {
   if (c.replace_trajectory) db_.Prepare("DELETE FROM trajectory WHERE session_id = ?").BindAll(c.session_id).Run();
   {
     Statement s = db_.Prepare(
-        "INSERT OR REPLACE INTO trajectory (session_id, scan_index, seq, t, stamp, x, y, theta) "
-        "VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
+        "INSERT INTO trajectory (session_id, scan_index, seq, t, stamp, x, y, theta) "
+        "VALUES (?, ?, ?, ?, ?, ?, ?, ?) ON CONFLICT (session_id, scan_index) DO UPDATE SET seq = excluded.seq, "
+        "t = excluded.t, stamp = excluded.stamp, x = excluded.x, y = excluded.y, theta = excluded.theta");
     for (const TrajectoryRow& r : c.trajectory) {
       s.BindAll(c.session_id, r.scan_index, r.seq, r.t);
       if (r.stamp.empty()) {
@@ -434,8 +436,10 @@ HypothesisCounts SessionRepository::CountHypotheses(const std::string& session_i
   // for the robot to see enough of them to be judged.
   Statement s = db_.Prepare(
       "SELECT COUNT(*), "
-      "COALESCE(SUM(status = 'pending'), 0), COALESCE(SUM(status = 'confirmed'), 0), "
-      "COALESCE(SUM(status = 'refuted'), 0), COALESCE(SUM(status = 'expired'), 0), "
+      "COALESCE(SUM(CASE WHEN status = 'pending' THEN 1 ELSE 0 END), 0), "
+      "COALESCE(SUM(CASE WHEN status = 'confirmed' THEN 1 ELSE 0 END), 0), "
+      "COALESCE(SUM(CASE WHEN status = 'refuted' THEN 1 ELSE 0 END), 0), "
+      "COALESCE(SUM(CASE WHEN status = 'expired' THEN 1 ELSE 0 END), 0), "
       "COALESCE(AVG(CASE WHEN status IN ('pending', 'confirmed') THEN hit_ratio END), 0) "
       "FROM hypotheses WHERE session_id = ?");
   s.Bind(1, session_id);

@@ -1,13 +1,14 @@
 #pragma once
-// The only place with SQL text. Every value is a bound parameter; filters build their WHERE
-// clause from fixed fragments and bind the user's values, so no input ever becomes SQL.
+// The only place with SQL text, written once for both engines (SQLite and PostgreSQL). Every value
+// is a bound parameter; filters build their WHERE clause from fixed fragments and bind the user's
+// values, so no input ever becomes SQL.
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "model/input.hpp"
 #include "storage/records.hpp"
-#include "storage/sqlite.hpp"
+#include "storage/database.hpp"
 
 namespace pslam::server {
 

@@ -14,10 +14,10 @@ namespace {
 constexpr std::size_t kMaxBatch = 1024;
 }  // namespace
 
-Result<std::unique_ptr<StorageWriter>> StorageWriter::Open(const std::string& path, bool synchronous_full) {
+Result<std::unique_ptr<StorageWriter>> StorageWriter::Open(const StorageLocation& where) {
   try {
-    Database db = Database::Open(path, Database::Mode::kReadWrite, synchronous_full);
-    const int version = ApplyMigrations(db, EmbeddedMigrations());
+    Database db = Database::Open(where, Database::Mode::kReadWrite);
+    const int version = ApplyMigrations(db, EmbeddedMigrations(where.kind));
     return std::unique_ptr<StorageWriter>(new StorageWriter(std::move(db), version));
   } catch (const std::exception& e) {
     return Error{e.what()};
@@ -74,10 +74,10 @@ void StorageWriter::Stop() {
   wake_.notify_one();
   if (thread_.joinable()) thread_.join();
   try {
-    // Fold the WAL into the database file, so a stopped server leaves one self-contained file.
-    db_.Exec("PRAGMA wal_checkpoint(TRUNCATE)");
-  } catch (const SqliteError& e) {
-    std::cerr << "storage: WAL checkpoint at shutdown failed: " << e.what() << "\n";
+    // SQLite: fold the WAL into the database file, so a stopped server leaves one self-contained file.
+    db_.engine().Checkpoint();
+  } catch (const StorageError& e) {
+    std::cerr << "storage: checkpoint at shutdown failed: " << e.what() << "\n";
   }
 }
 

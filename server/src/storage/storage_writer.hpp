@@ -1,6 +1,6 @@
 #pragma once
-// The single writer of the database, on its own thread (SQLite has one writer at a time, and slow
-// commits must never stall the network threads). Jobs queue up while a commit is in progress and
+// The single writer of the database, on its own thread (SQLite has one writer at a time, a
+// PostgreSQL round trip costs time, and slow commits must never stall the network threads). Jobs queue up while a commit is in progress and
 // the next batch runs in one transaction: group commit, so one fsync acknowledges many inputs.
 // Each job runs in its own savepoint, so one failing job does not take its batch down with it.
 #include <condition_variable>
@@ -15,7 +15,7 @@
 #include "common/recent_failure.hpp"
 #include "common/result.hpp"
 #include "storage/session_repository.hpp"
-#include "storage/sqlite.hpp"
+#include "storage/database.hpp"
 
 namespace pslam::server {
 
@@ -33,8 +33,8 @@ class StorageWriter {
   // Called on the writer thread once the job's transaction has committed (ok) or the job failed.
   using Done = std::function<void(bool ok, const std::string& error)>;
 
-  // Opens (creating) the database at 'path', applies the migrations and starts the thread.
-  static Result<std::unique_ptr<StorageWriter>> Open(const std::string& path, bool synchronous_full);
+  // Opens (a SQLite file is created) the database, applies the migrations and starts the thread.
+  static Result<std::unique_ptr<StorageWriter>> Open(const StorageLocation& where);
   ~StorageWriter();
   StorageWriter(const StorageWriter&) = delete;
   StorageWriter& operator=(const StorageWriter&) = delete;
