@@ -131,6 +131,23 @@ TEST_F(MapIoTest, PgmYamlRoundTripKeepsWorldCoordinates) {
   EXPECT_EQ(ReadText(again + ".pgm"), pgm);
 }
 
+TEST_F(MapIoTest, ParsedFromMemoryLikeLoadedFromFiles) {
+  const OccupancyGrid grid = MakeGrid();
+  const MapImage image = RenderMapImage(grid);
+  const std::string pgm = MapPgmBytes(image), yaml = MapYamlText(image, "any-name.pgm");
+  const OccupancyGrid parsed = ParseMap(yaml, pgm, "upload");
+  ExpectSameMap(grid, parsed);
+  EXPECT_EQ(MapPgmBytes(RenderMapImage(parsed)), pgm);
+  // Errors name what was parsed, not a file.
+  try {
+    ParseMap(yaml, pgm.substr(0, pgm.size() - 5), "upload");
+    FAIL() << "a truncated raster was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("upload (image): size mismatch"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ParseMap("image: a.pgm\nresolution: 0.05\n", pgm, "upload"), std::runtime_error);  // no origin
+}
+
 TEST_F(MapIoTest, PngRoundTripAndInMemoryEncodingMatch) {
   const OccupancyGrid grid = MakeGrid();
   const std::string prefix = (dir_ / "map").string();

@@ -50,7 +50,16 @@ void WriteFile(const std::string& path, std::string_view bytes) {
   if (!out) throw std::runtime_error("cannot write map file " + path);
 }
 
-std::string PgmBytes(const MapImage& image) {
+// Shortest text that reads back as the same double, so the resolution round-trips exactly.
+std::string ExactNumber(double v) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+}  // namespace
+
+std::string MapPgmBytes(const MapImage& image) {
   char header[128];
   std::snprintf(header, sizeof header, "P5\n# CREATOR: pslam %.3f m/pix\n%d %d\n255\n", image.resolution, image.width,
                 image.height);
@@ -59,14 +68,7 @@ std::string PgmBytes(const MapImage& image) {
   return bytes;
 }
 
-// Shortest text that reads back as the same double, so the resolution round-trips exactly.
-std::string ExactNumber(double v) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
-
-std::string YamlText(const MapImage& image, const std::string& image_file) {
+std::string MapYamlText(const MapImage& image, const std::string& image_file) {
   // The origin is a multiple of the resolution (e.g. -0.15000000000000002); 10 significant digits
   // read well and still round to the same cell on load.
   char origin[128];
@@ -81,6 +83,8 @@ std::string YamlText(const MapImage& image, const std::string& image_file) {
        << "mode: trinary\n";
   return yaml.str();
 }
+
+namespace {
 
 // ---- YAML ------------------------------------------------------------------------------------
 
@@ -129,10 +133,8 @@ std::string_view StripComment(std::string_view line) {
 }
 
 // Reads "key: value" lines; keeps only the keys a map YAML has, ignores others, rejects duplicates.
-std::map<std::string, std::string> ReadYamlKeys(const std::string& path) {
+std::map<std::string, std::string> ReadYamlKeys(const std::string& path, std::istream& in) {
   static const char* const kKeys[] = {"image", "resolution", "origin", "negate", "occupied_thresh", "free_thresh", "mode"};
-  std::ifstream in(path);
-  if (!in) Fail(path, "cannot open map YAML");
   std::map<std::string, std::string> values;
   std::string raw;
   for (int line_no = 1; std::getline(in, raw); ++line_no) {
@@ -172,8 +174,8 @@ Eigen::Vector2d ParseOrigin(const std::string& path, const std::string& text) {
   return {parts[0], parts[1]};
 }
 
-MapYaml ParseMapYaml(const std::string& path) {
-  const auto values = ReadYamlKeys(path);
+MapYaml ParseMapYaml(const std::string& path, std::istream& in) {
+  const auto values = ReadYamlKeys(path, in);
   auto require = [&](const char* key) -> const std::string& {
     const auto it = values.find(key);
     if (it == values.end()) Fail(path, std::string("missing key '") + key + "'");
@@ -324,8 +326,7 @@ GrayImage DecodeWithOpenCv(const std::string& path, const std::string& bytes) {
   return image;
 }
 
-GrayImage DecodeImage(const std::string& path) {
-  const std::string bytes = ReadBytes(path);
+GrayImage DecodeImage(const std::string& path, const std::string& bytes) {
   if (bytes.size() >= 2 && bytes[0] == 'P' && (bytes[1] == '5' || bytes[1] == '2')) return DecodePgm(path, bytes);
   return DecodeWithOpenCv(path, bytes);
 }
@@ -342,6 +343,23 @@ std::optional<OccupancyGrid::Cell> CellFromPixel(const MapYaml& yaml, double bri
   if (yaml.mode == MapMode::kTrinary || transparent) return std::nullopt;
   // Scale mode keeps in-between values as probabilities; clamp away from 0/1 (finite log-odds).
   return MilliLogOdds(std::clamp(occupancy, 1e-3, 1.0 - 1e-3));
+}
+
+// The grid of a parsed YAML and its decoded image.
+OccupancyGrid BuildGrid(const MapYaml& yaml, const GrayImage& image) {
+  OccupancyGrid grid(yaml.resolution);
+  // Snap the origin to the world-anchored cell lattice (exact for origins that are multiples).
+  const Eigen::Vector2i lo(static_cast<int>(std::lround(yaml.origin.x() / yaml.resolution)),
+                           static_cast<int>(std::lround(yaml.origin.y() / yaml.resolution)));
+  for (int row = 0; row < image.height; ++row) {
+    const int cy = lo.y() + image.height - 1 - row;
+    for (int col = 0; col < image.width; ++col) {
+      const std::size_t i = static_cast<std::size_t>(row) * image.width + col;
+      const bool transparent = !image.transparent.empty() && image.transparent[i];
+      if (const auto cell = CellFromPixel(yaml, image.brightness[i], transparent)) grid.MutableAt(lo.x() + col, cy) = *cell;
+    }
+  }
+  return grid;
 }
 
 }  // namespace
@@ -370,30 +388,24 @@ std::vector<std::uint8_t> EncodeMapPng(const OccupancyGrid& grid) { return Encod
 void SaveMap(const OccupancyGrid& grid, const std::string& prefix) {
   const MapImage image = RenderMapImage(grid);
   const std::vector<std::uint8_t> png = EncodePng(image);
-  WriteFile(prefix + ".pgm", PgmBytes(image));
+  WriteFile(prefix + ".pgm", MapPgmBytes(image));
   WriteFile(prefix + ".png", std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
-  WriteFile(prefix + ".yaml", YamlText(image, fs::path(prefix).filename().string() + ".pgm"));
+  WriteFile(prefix + ".yaml", MapYamlText(image, fs::path(prefix).filename().string() + ".pgm"));
 }
 
 OccupancyGrid LoadMap(const std::string& yaml_path) {
-  const MapYaml yaml = ParseMapYaml(yaml_path);
+  std::ifstream in(yaml_path);
+  if (!in) Fail(yaml_path, "cannot open map YAML");
+  const MapYaml yaml = ParseMapYaml(yaml_path, in);
   fs::path image_path(yaml.image);
   if (image_path.is_relative()) image_path = fs::path(yaml_path).parent_path() / image_path;
-  const GrayImage image = DecodeImage(image_path.string());
+  return BuildGrid(yaml, DecodeImage(image_path.string(), ReadBytes(image_path.string())));
+}
 
-  OccupancyGrid grid(yaml.resolution);
-  // Snap the origin to the world-anchored cell lattice (exact for origins that are multiples).
-  const Eigen::Vector2i lo(static_cast<int>(std::lround(yaml.origin.x() / yaml.resolution)),
-                           static_cast<int>(std::lround(yaml.origin.y() / yaml.resolution)));
-  for (int row = 0; row < image.height; ++row) {
-    const int cy = lo.y() + image.height - 1 - row;
-    for (int col = 0; col < image.width; ++col) {
-      const std::size_t i = static_cast<std::size_t>(row) * image.width + col;
-      const bool transparent = !image.transparent.empty() && image.transparent[i];
-      if (const auto cell = CellFromPixel(yaml, image.brightness[i], transparent)) grid.MutableAt(lo.x() + col, cy) = *cell;
-    }
-  }
-  return grid;
+OccupancyGrid ParseMap(const std::string& yaml_text, const std::string& image_bytes, const std::string& name) {
+  std::istringstream in(yaml_text);
+  const MapYaml yaml = ParseMapYaml(name + " (YAML)", in);
+  return BuildGrid(yaml, DecodeImage(name + " (image)", image_bytes));
 }
 
 }  // namespace pslam

@@ -43,6 +43,11 @@ MapImage RenderMapImage(const OccupancyGrid& grid);
 // The rendered image as PNG bytes.
 std::vector<std::uint8_t> EncodeMapPng(const OccupancyGrid& grid);
 
+// The map_server files of a rendered image, as SaveMap writes them: a binary PGM (P5), and the
+// YAML that names its image 'image_file' (resolution written exactly, origin to 10 digits).
+std::string MapPgmBytes(const MapImage& image);
+std::string MapYamlText(const MapImage& image, const std::string& image_file);
+
 // Writes 'prefix'.pgm (binary P5), 'prefix'.yaml and 'prefix'.png. Throws std::runtime_error naming
 // the file when one cannot be written.
 void SaveMap(const OccupancyGrid& grid, const std::string& prefix);
@@ -54,5 +59,9 @@ void SaveMap(const OccupancyGrid& grid, const std::string& prefix);
 // cell for maps whose origin is not cell-aligned. Throws std::runtime_error naming the file on any
 // bad input (missing or duplicate keys, bad values, unreadable or truncated image).
 OccupancyGrid LoadMap(const std::string& yaml_path);
+
+// LoadMap from memory: the YAML's text and the bytes of its image (the YAML's 'image' key must be
+// there but names no file here). Errors name 'name' instead of a file.
+OccupancyGrid ParseMap(const std::string& yaml_text, const std::string& image_bytes, const std::string& name);
 
 }  // namespace pslam

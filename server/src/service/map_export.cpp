@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
-#include <cstdio>
 
 #include "common/png_writer.hpp"
 #include "engine/tile_codec.hpp"
@@ -16,24 +15,10 @@ std::string MapPng(const OccupancyGrid& grid) {
   return std::string(png.begin(), png.end());
 }
 
-std::string MapPgm(const OccupancyGrid& grid) {
-  const MapImage image = RenderMapImage(grid);
-  char header[64];
-  std::snprintf(header, sizeof header, "P5\n%d %d\n255\n", image.width, image.height);
-  std::string out(header);
-  out.append(image.pixels.begin(), image.pixels.end());
-  return out;
-}
+std::string MapPgm(const OccupancyGrid& grid) { return MapPgmBytes(RenderMapImage(grid)); }
 
 std::string MapYaml(const OccupancyGrid& grid, const std::string& image_name) {
-  const MapImage image = RenderMapImage(grid);
-  char text[512];
-  std::snprintf(text, sizeof text,
-                "image: %s\nresolution: %.6f\norigin: [%.6f, %.6f, 0.000000]\nnegate: 0\noccupied_thresh: %.3f\n"
-                "free_thresh: %.3f\nmode: trinary\n",
-                image_name.c_str(), image.resolution, image.origin.x(), image.origin.y(), kMapOccupiedThreshold,
-                kMapFreeThreshold);
-  return text;
+  return MapYamlText(RenderMapImage(grid), image_name);
 }
 
 nlohmann::json MapMetadata(const OccupancyGrid& grid, bool live) {
