@@ -34,6 +34,7 @@ Result<std::unique_ptr<App>> App::Create(ServerOptions options) {
   service.resume_on_restart = o.resume_on_restart;
   app->mapping_ = std::make_unique<MappingService>(service, *app->writer_, *app->reads_);
   app->replay_ = std::make_unique<ReplayService>(*app->mapping_, o.replay_dir);
+  app->sites_ = std::make_unique<SiteService>(*app->mapping_);
 
   app->context_ = std::make_shared<ServerContext>(o.net, TokenAuth(o.agent_tokens, o.viewer_tokens),
                                                   StaticFiles(o.web_dir), *app->mapping_, app->workers_,
@@ -48,7 +49,7 @@ Result<std::unique_ptr<App>> App::Create(ServerOptions options) {
         context->hub.End(id, status);
         context->foxglove.End(id);
       });
-  app->api_ = std::make_unique<ApiContext>(ApiContext{*app->mapping_, *app->replay_, std::chrono::steady_clock::now(),
+  app->api_ = std::make_unique<ApiContext>(ApiContext{*app->mapping_, *app->replay_, *app->sites_, std::chrono::steady_clock::now(),
                                                       [context] { return context->hub.viewers(); },
                                                       [context] { return context->agents.load(); }});
   Router& router = app->context_->router;
@@ -57,6 +58,7 @@ Result<std::unique_ptr<App>> App::Create(ServerOptions options) {
   AddMapRoutes(router, *app->api_);
   AddHypothesisRoutes(router, *app->api_);
   AddReplayRoutes(router, *app->api_);
+  AddSiteRoutes(router, *app->api_);
   router.SetRefusalLog([context](const ApiRequest& req, int status) {
     context->LogRefusal(req.method, req.path, req.remote, status);
   });

@@ -12,6 +12,7 @@
 #include "net/server_context.hpp"
 #include "service/mapping_service.hpp"
 #include "service/replay_service.hpp"
+#include "service/site_service.hpp"
 #include "storage/read_pool.hpp"
 #include "storage/storage_writer.hpp"
 
@@ -36,6 +37,7 @@ class App {
   std::unique_ptr<ReadPool> reads_;
   std::unique_ptr<MappingService> mapping_;
   std::unique_ptr<ReplayService> replay_;
+  std::unique_ptr<SiteService> sites_;
   net::io_context ioc_;
   net::thread_pool workers_;
   std::shared_ptr<ServerContext> context_;

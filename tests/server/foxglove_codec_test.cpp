@@ -13,23 +13,6 @@
 namespace pslam::server {
 namespace {
 
-std::string Base64Decode(const std::string& text) {
-  static const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  unsigned buffer = 0;
-  int bits = 0;
-  for (const char c : text) {
-    if (c == '=') break;
-    buffer = buffer << 6 | static_cast<unsigned>(alphabet.find(c));
-    bits += 6;
-    if (bits >= 8) {
-      bits -= 8;
-      out += static_cast<char>((buffer >> bits) & 0xff);
-    }
-  }
-  return out;
-}
-
 TEST(FoxgloveCodec, MessageDataHeaderIsOpcodeSubscriptionAndTimestampLittleEndian) {
   const auto h = MessageDataHeader(0x04030201u, 0x0c0b0a0908070605ull);
   const std::array<std::uint8_t, 13> expected = {1, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
@@ -43,6 +26,12 @@ TEST(FoxgloveCodec, Base64FollowsRfc4648) {
   EXPECT_EQ(Base64Encode("foo"), "Zm9v");
   EXPECT_EQ(Base64Encode("foobar"), "Zm9vYmFy");
   EXPECT_EQ(Base64Encode(std::string("\xff\x00\xfe", 3)), "/wD+");
+  for (const std::string bytes : {"", "f", "fo", "foo", "foob", "fooba", "foobar", "\xff\x01\xfe"}) {
+    EXPECT_EQ(Base64Decode(Base64Encode(bytes)), bytes);
+  }
+  EXPECT_FALSE(Base64Decode("Zg="));    // not a multiple of 4
+  EXPECT_FALSE(Base64Decode("Z g=="));  // not the alphabet
+  EXPECT_FALSE(Base64Decode("Zg=a"));   // padding in the middle
 }
 
 TEST(FoxgloveCodec, ChannelsAreJsonWithJsonSchemas) {
@@ -78,7 +67,7 @@ TEST(FoxgloveCodec, GridCoversTheKnownCellsOneByOne) {
   EXPECT_DOUBLE_EQ(g["cell_size"]["x"].get<double>(), 0.05);
   EXPECT_DOUBLE_EQ(g["pose"]["position"]["x"].get<double>(), -3 * 0.05);
   EXPECT_DOUBLE_EQ(g["pose"]["position"]["y"].get<double>(), 2 * 0.05);
-  const std::string data = Base64Decode(g["data"]);
+  const std::string data = Base64Decode(g["data"].get<std::string>()).value();
   ASSERT_EQ(data.size(), 8u * 4u * 3u);
   const auto cell = [&](int c, int r) { return static_cast<std::uint8_t>(data[(r * 8 + c) * 3]); };
   const auto alpha = [&](int c, int r) { return static_cast<std::uint8_t>(data[(r * 8 + c) * 3 + 2]); };
@@ -96,7 +85,7 @@ TEST(FoxgloveCodec, LargeGridsAreCoarsenedKeepingWalls) {
   const auto g = nlohmann::json::parse(GridPayload(TwoCells(), 0, 8));
   EXPECT_EQ(g["column_count"], 4);
   EXPECT_DOUBLE_EQ(g["cell_size"]["x"].get<double>(), 0.1);
-  const std::string data = Base64Decode(g["data"]);
+  const std::string data = Base64Decode(g["data"].get<std::string>()).value();
   ASSERT_EQ(data.size(), 4u * 2u * 3u);
   const auto cell = [&](int c, int r) { return static_cast<std::uint8_t>(data[(r * 4 + c) * 3]); };
   EXPECT_LT(cell(0, 0), 5);    // the free cell's block
@@ -105,7 +94,7 @@ TEST(FoxgloveCodec, LargeGridsAreCoarsenedKeepingWalls) {
   // Into at most 7: blocks of 3 x 3, and a block holding both keeps the wall.
   const auto g3 = nlohmann::json::parse(GridPayload(TwoCells(), 0, 7));
   EXPECT_EQ(g3["column_count"], 3);
-  const std::string d3 = Base64Decode(g3["data"]);
+  const std::string d3 = Base64Decode(g3["data"].get<std::string>()).value();
   ASSERT_EQ(d3.size(), 3u * 2u * 3u);
   EXPECT_GT(static_cast<std::uint8_t>(d3[(1 * 3 + 2) * 3]), 95);  // cell (4, 5) is in block (2, 1)
 }
@@ -141,7 +130,7 @@ TEST(FoxgloveCodec, PredictionGridDrawsPredictedWallsOverFreeSpace) {
   EXPECT_EQ(g["cell_stride"], 5);
   EXPECT_DOUBLE_EQ(g["pose"]["position"]["x"].get<double>(), 0.5);
   EXPECT_DOUBLE_EQ(g["pose"]["position"]["y"].get<double>(), 1.0);
-  const std::string data = Base64Decode(g["data"]);
+  const std::string data = Base64Decode(g["data"].get<std::string>()).value();
   ASSERT_EQ(data.size(), 3u * 2u * 5u);
   const auto byte = [&](int c, int r, int k) { return static_cast<std::uint8_t>(data[(r * 3 + c) * 5 + k]); };
   EXPECT_EQ(byte(0, 0, 3), 230);  // a's wall

@@ -8,12 +8,14 @@
 #include "api/router.hpp"
 #include "service/mapping_service.hpp"
 #include "service/replay_service.hpp"
+#include "service/site_service.hpp"
 
 namespace pslam::server {
 
 struct ApiContext {
   MappingService& mapping;
   ReplayService& replay;
+  SiteService& sites;
   std::chrono::steady_clock::time_point started;
   std::function<std::size_t()> viewer_count;
   std::function<std::size_t()> agent_count;
@@ -24,6 +26,7 @@ void AddSessionRoutes(Router& router, ApiContext& context);
 void AddMapRoutes(Router& router, ApiContext& context);
 void AddHypothesisRoutes(Router& router, ApiContext& context);
 void AddReplayRoutes(Router& router, ApiContext& context);
+void AddSiteRoutes(Router& router, ApiContext& context);
 
 // Parses a request body as a JSON object; throws ApiError 400 with the parser's complaint.
 nlohmann::json ParseJsonBody(const ApiRequest& request);

@@ -1,5 +1,5 @@
 // Sessions: list, create, get, close, delete; a session's statistics, trajectory and events; the
-// operator's exploration choice.
+// operator's exploration choice; a localizing session's pose.
 #include "api/handlers.hpp"
 #include "api/query.hpp"
 #include "service/api_error.hpp"
@@ -75,6 +75,11 @@ void AddSessionRoutes(Router& router, ApiContext& ctx) {
     if (!verify) f.Fail("verify_predictions", "is required (true or false)");
     ctx.mapping.SetVerifyPredicted(id, *verify);
     return JsonResponse(200, nlohmann::json{{"session_id", id}, {"verify_predictions", *verify}}.dump());
+  });
+  router.Add("POST", "/api/sessions/{id}/initial_pose", Access::kWrite, [&ctx](const ApiRequest& req) {
+    const std::string id = SessionIdParam(req);
+    const InitialPose pose = ctx.mapping.SetInitialPose(id, ParseJsonBody(req));
+    return JsonResponse(200, nlohmann::json{{"session_id", id}, {"initial_pose", InitialPoseToJson(pose)}}.dump());
   });
   router.Add("GET", "/api/sessions/{id}/trajectory", Access::kRead, [&ctx](const ApiRequest& req) {
     const std::string id = SessionIdParam(req);

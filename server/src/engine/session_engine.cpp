@@ -18,12 +18,13 @@ SteadyTime::duration SessionEngine::StatsPeriod() const {
 }
 
 SessionEngine::SessionEngine(std::string session_id, SessionSettings settings, LaserGeometry laser,
-                             EngineTiming timing, EngineSinks sinks)
+                             EngineTiming timing, EngineSinks sinks, std::shared_ptr<const OccupancyGrid> fixed_map)
     : session_id_(std::move(session_id)),
       settings_(std::move(settings)),
       laser_(laser),
       timing_(timing),
-      sinks_(std::move(sinks)) {}
+      sinks_(std::move(sinks)),
+      fixed_map_(std::move(fixed_map)) {}
 
 SessionEngine::~SessionEngine() {
   Join(StopMode::kAbort);
@@ -49,6 +50,11 @@ void SessionEngine::Push(InputRecord input, SteadyTime received) {
 void SessionEngine::WaitForRoom(std::size_t max_queued) {
   std::unique_lock lock(mutex_);
   room_.wait(lock, [&] { return queue_.size() < max_queued || stop_ != StopMode::kNone || failed_; });
+}
+
+void SessionEngine::SetInitialPose(const InitialPose& pose) {
+  std::lock_guard lock(mutex_);
+  pending_pose_ = pose;
 }
 
 void SessionEngine::Finish() { Join(StopMode::kFinish); }
@@ -92,7 +98,7 @@ void SessionEngine::Loop(BacklogReader backlog, std::int64_t backlog_until) {
         plan_ready_ = true;
       }
       wake_.notify_one();
-    });
+    }, std::move(fixed_map_));
     last_checkpoint_ = SteadyNow();
     live_tokens_.emplace(1.0 / timing_.live_period_seconds, timing_.live_burst, last_checkpoint_);
     // Rebuild: the stored inputs of a resumed session, straight from the database.
@@ -192,6 +198,14 @@ void SessionEngine::Process(const InputRecord& input, std::optional<SteadyTime> 
   if (input.seq <= processed_seq_.load()) return;  // already in the filter
   const SteadyTime start = SteadyNow();
   pipeline_->SetVerifyPredicted(verify_predicted_);
+  if (pipeline_->localizing()) {
+    std::optional<InitialPose> pose;
+    {
+      std::lock_guard lock(mutex_);
+      pose = std::exchange(pending_pose_, std::nullopt);
+    }
+    if (pose) pipeline_->SetPose(*pose);
+  }
   PipelineStep step = pipeline_->Add(input);
   if (step.scan) last_scan_ = step.scan;
   const double step_ms = SecondsSince(start) * 1e3;
@@ -276,6 +290,8 @@ EngineStats SessionEngine::CurrentStats() const {
   s.mapped_m2 = e.mapped_m2;
   s.predicted_m2 = e.predicted_m2;
   s.predicted_frontiers = e.predicted_frontiers;
+  s.mode = settings_.mode;
+  if (pipeline_->localizing()) s.localization = pipeline_->localization();
   const PSlamStats p = pipeline_->pslam_stats();
   s.targets = p.targets;
   s.predictions_made = p.predictions_made;

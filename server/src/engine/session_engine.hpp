@@ -53,8 +53,9 @@ using BacklogReader = std::function<std::vector<InputRecord>(std::int64_t after_
 
 class SessionEngine {
  public:
+  // 'fixed_map': the site's map, for a session in localize mode (settings.mode).
   SessionEngine(std::string session_id, SessionSettings settings, LaserGeometry laser, EngineTiming timing,
-                EngineSinks sinks);
+                EngineSinks sinks, std::shared_ptr<const OccupancyGrid> fixed_map = nullptr);
   ~SessionEngine();
   SessionEngine(const SessionEngine&) = delete;
   SessionEngine& operator=(const SessionEngine&) = delete;
@@ -77,6 +78,8 @@ class SessionEngine {
   // default), or wait for the operator. Any thread; applies from the next input.
   void SetVerifyPredicted(bool verify) { verify_predicted_ = verify; }
   bool verify_predicted() const { return verify_predicted_.load(); }
+  // Localize mode: re-localize from this pose at the next input (any thread).
+  void SetInitialPose(const InitialPose& pose);
 
   const std::string& session_id() const { return session_id_; }
   std::int64_t processed_seq() const { return processed_seq_.load(); }
@@ -114,6 +117,7 @@ class SessionEngine {
   const LaserGeometry laser_;
   const EngineTiming timing_;
   EngineSinks sinks_;
+  std::shared_ptr<const OccupancyGrid> fixed_map_;  // handed to the pipeline when it is built
 
   // Engine thread only.
   std::unique_ptr<SlamPipeline> pipeline_;
@@ -142,6 +146,7 @@ class SessionEngine {
   std::deque<Queued> queue_;
   StopMode stop_ = StopMode::kNone;
   bool plan_ready_ = false;                              // the planner has a result to take
+  std::optional<InitialPose> pending_pose_;              // to apply before the next input
   EngineStats stats_;                                    // copy for other threads
   std::shared_ptr<const LiveFrame> latest_frame_;
   std::atomic<std::int64_t> processed_seq_{0};

@@ -1,5 +1,7 @@
 #include "engine/slam_pipeline.hpp"
 
+#include "engine/localize_options.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -85,9 +87,29 @@ PSlamOptions ToPSlamOptions(const SessionSettings& settings) {
   return o;
 }
 
-SlamPipeline::SlamPipeline(const SessionSettings& settings, const LaserGeometry& laser, std::function<void()> plan_ready)
+SlamPipeline::SlamPipeline(const SessionSettings& settings, const LaserGeometry& laser, std::function<void()> plan_ready,
+                           std::shared_ptr<const OccupancyGrid> fixed_map)
     : settings_(settings), laser_(laser), slam_(ToPSlamOptions(settings)), divergence_(settings.particles) {
+  if (settings_.mode == "localize") {
+    if (!fixed_map) throw std::invalid_argument("localize mode needs the site's map");
+    localization_ = std::make_unique<FixedMapLocalization>(std::move(fixed_map), ToMclOptions(settings_),
+                                                           settings_.initial_pose);
+  }
   if (settings_.plan_targets) planner_ = std::make_unique<ExplorationPlanner>(std::move(plan_ready));
+}
+
+Pose2D SlamPipeline::CurrentPose() const {
+  if (!localization_) return slam_.filter().best().pose;
+  const auto& trajectory = localization_->trajectory();
+  return trajectory.empty() ? Pose2D() : trajectory.back();
+}
+
+int SlamPipeline::particle_count() const {
+  return static_cast<int>(localization_ ? localization_->particles().size() : slam_.filter().particles().size());
+}
+
+std::vector<Pose2D> SlamPipeline::Trajectory() const {
+  return localization_ ? localization_->trajectory() : slam_.filter().Trajectory();
 }
 
 void SlamPipeline::CheckMemory() const {
@@ -130,6 +152,15 @@ PipelineStep SlamPipeline::Add(const InputRecord& input) {
   // (interpolated by the agent to the scan time).
   if (input.kind != InputKind::kScan) return step;
   step.scan = std::make_shared<const LaserScan>(ToLaserScan(input, laser_));
+  if (localization_) {
+    step.filter = localization_->Add(*step.scan);
+    if (planner_) {
+      WatchProgress(input.t, step);
+      step.target = TakePlan();
+      MaybeRequestPlan(input.t);
+    }
+    return step;
+  }
   const std::size_t known = slam_.hypotheses().size();
   PSlamStep s = slam_.AddScan(*step.scan);
   CheckMemory();
@@ -158,17 +189,18 @@ PipelineStep SlamPipeline::Add(const InputRecord& input) {
 }
 
 void SlamPipeline::MaybeRequestPlan(double time) {
-  const Pose2D pose = slam_.filter().best().pose;
+  const Pose2D pose = CurrentPose();
   const bool near_target = target_ && std::hypot(target_->x - pose.x, target_->y - pose.y) < kTargetReachedMetres;
   if (!near_target && time - last_plan_time_ < kReplanSeconds) return;
   if (planner_->busy()) return;  // asked again at the next input
-  PlanRequest request{slam_.filter().best().map, slam_.coverage(), pose, settings_.predict, time, verify_predicted_,
-                      blacklist_};
+  // Localize mode plans on the fixed map, with no predictions.
+  PlanRequest request{map(), localization_ ? PredictionCoverage(map().resolution()) : slam_.coverage(), pose,
+                      settings_.predict && !localization_, time, verify_predicted_, blacklist_};
   if (planner_->Request(std::move(request))) last_plan_time_ = time;
 }
 
 void SlamPipeline::WatchProgress(double time, PipelineStep& step) {
-  const Pose2D pose = slam_.filter().best().pose;
+  const Pose2D pose = CurrentPose();
   const bool driving = target_ && !target_->path.empty();
   if (!driving || !progress_anchor_ || std::hypot(pose.x - progress_anchor_->x, pose.y - progress_anchor_->y) > kProgressMetres) {
     progress_anchor_ = pose;
@@ -228,7 +260,7 @@ std::optional<ExplorationTarget> SlamPipeline::TakePlan() {
     return target_;
   }
   exploration_done_ = false;
-  slam_.SetTarget(plan->target->cell, plan->time);
+  if (!localization_) slam_.SetTarget(plan->target->cell, plan->time);
   ExplorationTarget t;
   t.x = plan->target->position.x();
   t.y = plan->target->position.y();
@@ -241,6 +273,7 @@ std::optional<ExplorationTarget> SlamPipeline::TakePlan() {
 }
 
 std::vector<Pose2D> SlamPipeline::ParticlePoses() const {
+  if (localization_) return localization_->particles();
   std::vector<Pose2D> poses;
   poses.reserve(slam_.filter().particles().size());
   for (const Particle& p : slam_.filter().particles()) poses.push_back(p.pose);

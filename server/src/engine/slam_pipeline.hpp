@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "engine/exploration_planner.hpp"
+#include "engine/fixed_map_localization.hpp"
 #include "model/hypothesis.hpp"
 #include "model/input.hpp"
 #include "model/session_settings.hpp"
@@ -70,8 +71,11 @@ PSlamOptions ToPSlamOptions(const SessionSettings& settings);
 
 class SlamPipeline {
  public:
-  // 'plan_ready' is called on the planner's thread when a plan can be taken (TakePlan).
-  SlamPipeline(const SessionSettings& settings, const LaserGeometry& laser, std::function<void()> plan_ready = {});
+  // 'plan_ready' is called on the planner's thread when a plan can be taken (TakePlan). In localize
+  // mode (settings.mode) 'fixed_map' is the site's map: the pipeline localizes on it and maps
+  // nothing; throws std::invalid_argument without one or for bad localization settings.
+  SlamPipeline(const SessionSettings& settings, const LaserGeometry& laser, std::function<void()> plan_ready = {},
+               std::shared_ptr<const OccupancyGrid> fixed_map = nullptr);
   SlamPipeline(const SlamPipeline&) = delete;
   SlamPipeline& operator=(const SlamPipeline&) = delete;
 
@@ -82,15 +86,21 @@ class SlamPipeline {
   // be sent. Add() does this too; call it when the planner says a plan is ready and no input is.
   std::optional<ExplorationTarget> TakePlan();
 
-  const OccupancyGrid& map() const { return slam_.filter().best().map; }
-  bool started() const { return !slam_.filter().particles().empty(); }
-  const RbpfStats& filter_stats() const { return slam_.filter().stats(); }
+  // The best particle's map; in localize mode the fixed map (shown from the start).
+  const OccupancyGrid& map() const { return localization_ ? localization_->map() : slam_.filter().best().map; }
+  bool started() const { return localization_ || !slam_.filter().particles().empty(); }
+  const RbpfStats& filter_stats() const { return localization_ ? localization_->stats() : slam_.filter().stats(); }
   PSlamStats pslam_stats() const { return slam_.stats(); }
-  int particle_count() const { return static_cast<int>(slam_.filter().particles().size()); }
+  int particle_count() const;
   std::vector<Pose2D> ParticlePoses() const;
-  std::vector<double> Weights() const { return slam_.filter().Weights(); }
-  // The best particle's pose at every scan so far (smoothed: see Rbpf::Trajectory).
-  std::vector<Pose2D> Trajectory() const { return slam_.filter().Trajectory(); }
+  std::vector<double> Weights() const { return localization_ ? localization_->weights() : slam_.filter().Weights(); }
+  // The best particle's pose at every scan so far (smoothed: see Rbpf::Trajectory); in localize
+  // mode the estimate at every scan.
+  std::vector<Pose2D> Trajectory() const;
+  // Localize mode only (localizing()): re-localize from a pose, and how sure the filter is.
+  bool localizing() const { return localization_ != nullptr; }
+  void SetPose(const InitialPose& pose) { localization_->SetPose(pose); }
+  LocalizationStats localization() const { return localization_->status(); }
   // Whether the filter looks lost, from every scan so far.
   const DivergenceMonitor& divergence() const { return divergence_; }
 
@@ -106,6 +116,7 @@ class SlamPipeline {
 
  private:
   HypothesisRecord ToRecord(const Hypothesis& h) const;
+  Pose2D CurrentPose() const;
   void CheckMemory() const;
   void MaybeRequestPlan(double time);
   void WatchProgress(double time, PipelineStep& step);
@@ -113,7 +124,8 @@ class SlamPipeline {
 
   SessionSettings settings_;
   LaserGeometry laser_;
-  PSlam slam_;
+  PSlam slam_;                                    // unused in localize mode
+  std::unique_ptr<FixedMapLocalization> localization_;  // localize mode only
   DivergenceMonitor divergence_;
   std::vector<HypothesisRecord> hypotheses_;
   std::map<int, std::size_t> record_index_;       // hypothesis id -> index in hypotheses_

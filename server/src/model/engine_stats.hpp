@@ -6,6 +6,16 @@
 
 namespace pslam::server {
 
+// Localize mode: how sure Monte Carlo localization is of the pose (its heaviest particle cluster).
+struct LocalizationStats {
+  bool localized = false;        // the cluster holds most of the weight and is tight (MclOptions)
+  double cluster_weight = 0.0;   // share of the weight in the heaviest cluster
+  double position_std_m = 0.0;   // its spread along its widest direction
+  double heading_std_rad = 0.0;
+  int clusters = 0;
+  long long injected = 0;        // random particles injected so far (recovery after kidnapping)
+};
+
 struct EngineStats {
   std::int64_t processed_seq = 0;
   std::int64_t scans = 0;
@@ -37,6 +47,9 @@ struct EngineStats {
   double mapped_m2 = 0.0;
   double predicted_m2 = 0.0;
   int predicted_frontiers = 0;
+  // "map" or "localize"; localization only in localize mode.
+  std::string mode = "map";
+  LocalizationStats localization;
 };
 
 }  // namespace pslam::server

@@ -2,6 +2,7 @@
 // What a session is made of besides its inputs: the laser's geometry (from the agent's hello) and
 // the mapping settings (server defaults, overridden per session by hello or by a replay request).
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace pslam::server {
@@ -13,6 +14,13 @@ struct LaserGeometry {
   double max_range = 0.0;          // metres
   double min_range = 0.0;          // metres
   double offset_x = 0.0, offset_y = 0.0, offset_theta = 0.0;  // sensor pose in the robot frame
+};
+
+// Where a localizing robot starts: a Gaussian around (x, y, theta) on the site's map.
+struct InitialPose {
+  double x = 0.0, y = 0.0, theta = 0.0;  // metres, radians
+  double std_xy = 0.3;                    // m
+  double std_theta = 0.2;                 // rad
 };
 
 struct SessionSettings {
@@ -33,6 +41,15 @@ struct SessionSettings {
   // Settings of the structure predictor as a JSON object, kept opaque here: the predictor layer
   // parses (and validates) it, so adding a predictor tunable does not touch the server.
   std::string predictor_json = "{}";
+  // "map" builds a map from nothing; "localize" runs Monte Carlo localization on a fixed map of
+  // 'site' (version 'map_version') and maps nothing.
+  std::string mode = "map";
+  std::string site;                // the site the session belongs to; empty: none
+  std::int64_t map_version = 0;    // localize: the site's map version (0 in a request: its latest)
+  std::optional<InitialPose> initial_pose;  // localize: none means global localization
+  // Localization options as a JSON object of pslam/localize/mcl_options.hpp names, parsed (and
+  // validated) by the engine like the predictor's.
+  std::string localization_json = "{}";
   // Not stored: derived from the session's source. Sessions with a robot get exploration targets
   // planned on the map; replays have no robot to drive, and infer targets from the heading.
   bool plan_targets = false;

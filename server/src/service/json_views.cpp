@@ -57,7 +57,7 @@ nlohmann::json TrajectoryToJson(const std::vector<TrajectoryRow>& rows) {
 }
 
 nlohmann::json EngineStatsToJson(const EngineStats& s) {
-  return {{"processed_seq", s.processed_seq},
+  nlohmann::json j = {{"processed_seq", s.processed_seq},
           {"scans", s.scans},
           {"updates", s.updates},
           {"resamplings", s.resamplings},
@@ -81,7 +81,18 @@ nlohmann::json EngineStatsToJson(const EngineStats& s) {
           {"exploration_reason", s.exploration_reason},
           {"mapped_m2", s.mapped_m2},
           {"predicted_m2", s.predicted_m2},
-          {"predicted_frontiers", s.predicted_frontiers}};
+          {"predicted_frontiers", s.predicted_frontiers},
+          {"mode", s.mode}};
+  if (s.mode == "localize") {
+    const LocalizationStats& l = s.localization;
+    j["localization"] = {{"localized", l.localized},
+                         {"cluster_weight", l.cluster_weight},
+                         {"position_std_m", l.position_std_m},
+                         {"heading_std_rad", l.heading_std_rad},
+                         {"clusters", l.clusters},
+                         {"injected", l.injected}};
+  }
+  return j;
 }
 
 nlohmann::json HypothesisCountsToJson(const HypothesisCounts& c) {

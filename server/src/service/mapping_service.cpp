@@ -9,6 +9,8 @@
 #include "service/api_error.hpp"
 #include "service/json_fields.hpp"
 #include "service/json_views.hpp"
+#include "service/site_maps.hpp"
+#include "storage/site_repository.hpp"
 
 namespace pslam::server {
 namespace {
@@ -55,8 +57,30 @@ std::size_t MappingService::running_sessions() const {
   return running_.size();
 }
 
+std::shared_ptr<const OccupancyGrid> MappingService::PrepareSite(SessionSettings& settings) {
+  if (settings.site.empty()) return nullptr;
+  try {
+    if (settings.mode != "localize") {
+      auto lease = reads_.Acquire();
+      if (!SiteRepository(lease->repository().database()).GetSite(settings.site)) {
+        throw ApiError::NotFound("no site '" + settings.site + "'");
+      }
+      return nullptr;
+    }
+    std::int64_t version = settings.map_version;
+    auto map = LoadSiteMap(reads_, settings.site, version);
+    settings.map_version = version;
+    settings.resolution = map->resolution();
+    return map;
+  } catch (const ApiError& e) {
+    if (e.status() != 404) throw;
+    throw ApiError::BadRequest(std::string("settings.site: ") + e.what());
+  }
+}
+
 std::shared_ptr<SessionRuntime> MappingService::Launch(const SessionRow& row, const SessionSettings& settings,
-                                                       const LaserGeometry& laser, std::int64_t stored_seq) {
+                                                       const LaserGeometry& laser, std::int64_t stored_seq,
+                                                       std::shared_ptr<const OccupancyGrid> fixed_map) {
   auto rt = std::make_shared<SessionRuntime>();
   rt->id = row.id;
   rt->source = row.source;
@@ -110,7 +134,8 @@ std::shared_ptr<SessionRuntime> MappingService::Launch(const SessionRow& row, co
   };
   SessionSettings engine_settings = settings;
   engine_settings.plan_targets = row.source == "agent";
-  rt->engine = std::make_unique<SessionEngine>(row.id, engine_settings, laser, options_.timing, std::move(sinks));
+  rt->engine = std::make_unique<SessionEngine>(row.id, engine_settings, laser, options_.timing, std::move(sinks),
+                                               std::move(fixed_map));
   {
     std::lock_guard lock(mutex_);
     ReapRetired();
@@ -198,9 +223,11 @@ void MappingService::Recover() {
     }
     SessionSettings settings;
     LaserGeometry laser;
+    std::shared_ptr<const OccupancyGrid> fixed_map;
     try {
       settings = ParseSessionSettings(ParseStoredJson(row.settings_json), options_.defaults, options_.limits);
       laser = ParseLaserGeometry(ParseStoredJson(row.laser_json), options_.limits);
+      fixed_map = PrepareSite(settings);
     } catch (const std::exception& e) {
       std::cerr << "session " << row.id << ": cannot resume (" << e.what() << "), marking it failed\n";
       writer_.Execute([&](SessionRepository& repo) {
@@ -212,7 +239,7 @@ void MappingService::Recover() {
     if (row.last_seq > 0) {
       writer_.Execute([&](SessionRepository& repo) { repo.SetRebuilds(row.id, attempts + 1, row.last_seq); });
     }
-    Launch(row, settings, laser, row.last_seq);
+    Launch(row, settings, laser, row.last_seq, std::move(fixed_map));
     // A replay's feeder did not survive the restart: what it stored is mapped, then the session
     // closes. An agent's session waits for the agent to reconnect, unless told otherwise.
     const bool close = row.source == "replay" || !options_.resume_on_restart;
@@ -307,8 +334,10 @@ void MappingService::OpenForAgent(const HelloMessage& hello, const std::shared_p
     return;
   }
   SessionSettings settings;
+  std::shared_ptr<const OccupancyGrid> fixed_map;
   try {
     settings = ParseSessionSettings(hello.settings, options_.defaults, options_.limits, "hello.settings");
+    fixed_map = PrepareSite(settings);
   } catch (const ApiError& e) {
     done({nullptr, 0, IngestError{"bad_message", e.what()}});
     return;
@@ -328,12 +357,12 @@ void MappingService::OpenForAgent(const HelloMessage& hello, const std::shared_p
         repo.AddEvent(row.id, "created", nlohmann::json{{"source", "agent"}, {"robot_id", row.robot_id}}.dump(),
                       row.created_at);
       },
-      [this, row, settings, laser, link, done](bool ok, const std::string& error) {
+      [this, row, settings, laser, link, done, fixed_map](bool ok, const std::string& error) {
         if (!ok) {
           done({nullptr, 0, IngestError{"storage_error", "cannot create the session: " + error}});
           return;
         }
-        auto rt = Launch(row, settings, laser, 0);
+        auto rt = Launch(row, settings, laser, 0, fixed_map);
         {
           std::lock_guard lock(rt->mutex);
           rt->agent = link;
@@ -486,12 +515,14 @@ SessionRow MappingService::CreateSession(const nlohmann::json& body) {
   return GetSession(rt->id);
 }
 
-std::shared_ptr<SessionRuntime> MappingService::StartSession(SessionRow row, const SessionSettings& settings,
+std::shared_ptr<SessionRuntime> MappingService::StartSession(SessionRow row, const SessionSettings& requested,
                                                              const LaserGeometry& laser) {
   if (running_sessions() >= options_.max_running_sessions) {
     throw ApiError::Unavailable("the server runs its maximum of " + std::to_string(options_.max_running_sessions) +
                                 " sessions");
   }
+  SessionSettings settings = requested;
+  auto fixed_map = PrepareSite(settings);
   if (row.id.empty()) row.id = NewSessionId();
   row.status = "active";
   row.created_at = row.updated_at = UnixNow();
@@ -501,7 +532,7 @@ std::shared_ptr<SessionRuntime> MappingService::StartSession(SessionRow row, con
     repo.CreateSession(row);
     repo.AddEvent(row.id, "created", nlohmann::json{{"source", row.source}}.dump(), row.created_at);
   });
-  return Launch(row, settings, laser, 0);
+  return Launch(row, settings, laser, 0, std::move(fixed_map));
 }
 
 SessionRow MappingService::GetSession(const std::string& id) {
@@ -578,6 +609,19 @@ bool MappingService::SetVerifyPredicted(const std::string& id, bool verify) {
     LogEvent(id, "verify_predictions", {{"verify", verify}});
   }
   return verify;
+}
+
+InitialPose MappingService::SetInitialPose(const std::string& id, const nlohmann::json& body) {
+  const SessionRow row = GetSession(id);
+  const InitialPose pose = ParseInitialPose(body, "initial_pose");
+  const auto rt = Running(id);
+  if (!rt) throw ApiError::Conflict("session " + id + " is " + row.status + ": it localizes no more");
+  if (rt->settings.mode != "localize") {
+    throw ApiError::Conflict("session " + id + " maps (mode \"" + rt->settings.mode + "\"): only a localize session takes a pose");
+  }
+  rt->engine->SetInitialPose(pose);
+  LogEvent(id, "initial_pose", InitialPoseToJson(pose));
+  return pose;
 }
 
 nlohmann::json MappingService::Statistics(const std::string& id) {

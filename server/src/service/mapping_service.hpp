@@ -110,6 +110,10 @@ class MappingService {
   // frontiers that predictions cover (SessionEngine::SetVerifyPredicted). Throws ApiError 404, or
   // 409 for a session that is not running or has no robot.
   bool SetVerifyPredicted(const std::string& id, bool verify);
+  // Localize mode: re-localize a running session from the pose in 'body' ({"x", "y", "theta",
+  // "std_xy", "std_theta"}) at its next input. Throws ApiError 404, 400, or 409 for a session that
+  // is not running or does not localize.
+  InitialPose SetInitialPose(const std::string& id, const nlohmann::json& body);
   MapView CurrentMap(const std::string& id);
   std::vector<LiveMessage> StoredLiveSnapshot(const std::string& id);
   void LogEvent(const std::optional<std::string>& session_id, const std::string& kind, nlohmann::json detail);
@@ -123,8 +127,13 @@ class MappingService {
 
  private:
   std::string NewSessionId();
+  // Checks the site a session names and, in localize mode, loads the site's map (its latest version
+  // unless the settings name one; the settings then name the version loaded and take its
+  // resolution). Throws ApiError 400 for a missing site or map.
+  std::shared_ptr<const OccupancyGrid> PrepareSite(SessionSettings& settings);
   std::shared_ptr<SessionRuntime> Launch(const SessionRow& row, const SessionSettings& settings,
-                                         const LaserGeometry& laser, std::int64_t stored_seq);
+                                         const LaserGeometry& laser, std::int64_t stored_seq,
+                                         std::shared_ptr<const OccupancyGrid> fixed_map);
   void OnCommitted(const std::weak_ptr<SessionRuntime>& weak, std::int64_t seq, bool ok, const std::string& error,
                    const std::shared_ptr<InputRecord>& input, SteadyTime received);
   void OnProgress(const std::weak_ptr<SessionRuntime>& weak, std::int64_t processed);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "engine/localize_options.hpp"
 #include "engine/slam_pipeline.hpp"
 
 #include "service/json_fields.hpp"
@@ -51,7 +52,27 @@ SessionSettings ParseSessionSettings(const nlohmann::json& json, const SessionSe
     s.memory_limit_mb = static_cast<int>(*v);
   }
   if (const nlohmann::json* p = f.Object("predictor")) s.predictor_json = p->dump();
+  if (auto v = f.String("mode")) {
+    if (*v != "map" && *v != "localize") f.Fail("mode", "must be \"map\" or \"localize\"");
+    s.mode = *v;
+  }
+  if (auto v = f.String("site", 64)) s.site = *v;
+  if (auto v = f.Integer("map_version")) {
+    if (*v < 1) f.Fail("map_version", "must be at least 1");
+    s.map_version = *v;
+  }
+  if (const nlohmann::json* p = f.Object("initial_pose")) s.initial_pose = ParseInitialPose(*p, where + ".initial_pose");
+  if (const nlohmann::json* p = f.Object("localization")) s.localization_json = p->dump();
   f.RejectUnknown();
+  if (s.mode == "localize" && s.site.empty()) f.Fail("site", "is required in localize mode (the site whose map to localize on)");
+  if (s.map_version > 0 && s.site.empty()) f.Fail("map_version", "needs a 'site'");
+  if (s.mode == "localize") {
+    try {
+      ToMclOptions(s);
+    } catch (const std::exception& e) {
+      f.Fail("localization", std::string("is invalid: ") + e.what());
+    }
+  }
   // The engine builds its P-SLAM from these settings; refuse them here, while the client can still
   // be told, rather than when the session starts.
   try {
@@ -62,7 +83,31 @@ SessionSettings ParseSessionSettings(const nlohmann::json& json, const SessionSe
   return s;
 }
 
+InitialPose ParseInitialPose(const nlohmann::json& json, const std::string& where) {
+  JsonFields f(json, where);
+  InitialPose p;
+  p.x = f.RequiredNumber("x");
+  p.y = f.RequiredNumber("y");
+  p.theta = f.NumberOr("theta", 0.0);
+  p.std_xy = f.NumberOr("std_xy", p.std_xy);
+  p.std_theta = f.NumberOr("std_theta", p.std_theta);
+  f.RejectUnknown();
+  if (std::abs(p.x) > 1e6 || std::abs(p.y) > 1e6) f.Fail("x", "and y must be within 1000 km of the origin");
+  if (std::abs(p.theta) > 100.0) f.Fail("theta", "must be in [-100, 100] rad");
+  if (p.std_xy < 0.0 || p.std_xy > 100.0) f.Fail("std_xy", "must be in [0, 100] m");
+  if (p.std_theta < 0.0 || p.std_theta > 10.0) f.Fail("std_theta", "must be in [0, 10] rad");
+  return p;
+}
+
+nlohmann::json InitialPoseToJson(const InitialPose& p) {
+  return {{"x", p.x}, {"y", p.y}, {"theta", p.theta}, {"std_xy", p.std_xy}, {"std_theta", p.std_theta}};
+}
+
 nlohmann::json SessionSettingsToJson(const SessionSettings& s) {
+  const auto object = [](const std::string& text) {
+    const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+    return j.is_object() ? j : nlohmann::json::object();
+  };
   return {{"particles", s.particles},
           {"seed", s.seed},
           {"predict", s.predict},
@@ -73,9 +118,12 @@ nlohmann::json SessionSettingsToJson(const SessionSettings& s) {
           {"resample_threshold", s.resample_threshold},
           {"degenerate_ratio", s.degenerate_ratio},
           {"memory_limit_mb", s.memory_limit_mb},
-          {"predictor", nlohmann::json::parse(s.predictor_json, nullptr, false).is_object()
-                            ? nlohmann::json::parse(s.predictor_json)
-                            : nlohmann::json::object()}};
+          {"predictor", object(s.predictor_json)},
+          {"mode", s.mode},
+          {"site", s.site.empty() ? nlohmann::json() : nlohmann::json(s.site)},
+          {"map_version", s.map_version > 0 ? nlohmann::json(s.map_version) : nlohmann::json()},
+          {"initial_pose", s.initial_pose ? InitialPoseToJson(*s.initial_pose) : nlohmann::json()},
+          {"localization", object(s.localization_json)}};
 }
 
 LaserGeometry ParseLaserGeometry(const nlohmann::json& json, const SettingsLimits& limits, const std::string& where) {

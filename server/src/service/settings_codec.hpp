@@ -20,6 +20,10 @@ SessionSettings ParseSessionSettings(const nlohmann::json& json, const SessionSe
                                      const SettingsLimits& limits, const std::string& where = "settings");
 nlohmann::json SessionSettingsToJson(const SessionSettings& settings);
 
+// {"x", "y", "theta", "std_xy", "std_theta"}: x and y required.
+InitialPose ParseInitialPose(const nlohmann::json& json, const std::string& where);
+nlohmann::json InitialPoseToJson(const InitialPose& pose);
+
 LaserGeometry ParseLaserGeometry(const nlohmann::json& json, const SettingsLimits& limits,
                                  const std::string& where = "laser");
 nlohmann::json LaserGeometryToJson(const LaserGeometry& laser);

@@ -86,4 +86,27 @@ struct EventRow {
   std::string detail_json = "{}";
 };
 
+struct SiteRow {
+  std::string id;
+  std::string name;
+  double created_at = 0.0;
+  std::int64_t versions = 0;        // read-only: derived from site_maps
+  std::int64_t latest_version = 0;  // 0: no map yet
+};
+
+// One version of a site's map. 'yaml' and 'pgm' are left empty by listings.
+struct SiteMapRow {
+  std::string site_id;
+  std::int64_t version = 0;
+  double created_at = 0.0;
+  std::string source = "import";    // session | import
+  std::optional<std::string> session_id;
+  std::string note;
+  double resolution = 0.0;
+  int width = 0, height = 0;
+  double origin_x = 0.0, origin_y = 0.0;
+  std::string yaml;
+  std::string pgm;
+};
+
 }  // namespace pslam::server

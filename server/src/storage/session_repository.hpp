@@ -1,7 +1,7 @@
 #pragma once
-// The only place with SQL text, written once for both engines (SQLite and PostgreSQL). Every value
-// is a bound parameter; filters build their WHERE clause from fixed fragments and bind the user's
-// values, so no input ever becomes SQL.
+// The SQL of sessions (sites: site_repository.hpp), written once for both engines (SQLite and
+// PostgreSQL). Every value is a bound parameter; filters build their WHERE clause from fixed
+// fragments and bind the user's values, so no input ever becomes SQL.
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,6 +15,8 @@ namespace pslam::server {
 class SessionRepository {
  public:
   explicit SessionRepository(Database& db) : db_(db) {}
+  // The connection, for the other repositories of the same database (SiteRepository).
+  Database& database() { return db_; }
 
   // Sessions.
   void CreateSession(const SessionRow& row);

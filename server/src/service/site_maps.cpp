@@ -1,0 +1,43 @@
+#include "service/site_maps.hpp"
+
+#include <optional>
+#include <stdexcept>
+
+#include "pslam/io/map_io.hpp"
+#include "service/api_error.hpp"
+#include "storage/site_repository.hpp"
+
+namespace pslam::server {
+
+OccupancyGrid ParseSiteMapFiles(const std::string& yaml, const std::string& pgm, const std::string& name) {
+  if (pgm.size() < 2 || pgm[0] != 'P' || (pgm[1] != '5' && pgm[1] != '2')) {
+    throw ApiError(400, "bad_map", name + ": the image is not a PGM (P5 or P2)");
+  }
+  std::optional<OccupancyGrid> grid;
+  try {
+    grid.emplace(ParseMap(yaml, pgm, name));
+  } catch (const std::runtime_error& e) {
+    throw ApiError(400, "bad_map", e.what());
+  }
+  if (grid->KnownBounds().empty()) throw ApiError(400, "bad_map", name + ": the map has no known cell");
+  return std::move(*grid);
+}
+
+std::shared_ptr<const OccupancyGrid> LoadSiteMap(ReadPool& reads, const std::string& site_id, std::int64_t& version) {
+  std::optional<SiteMapRow> row;
+  {
+    auto lease = reads.Acquire();
+    SiteRepository sites(lease->repository().database());
+    if (!sites.GetSite(site_id)) throw ApiError::NotFound("no site '" + site_id.substr(0, 64) + "'");
+    row = sites.GetMapVersion(site_id, version);
+  }
+  if (!row) {
+    throw ApiError::NotFound(version > 0 ? "site " + site_id + " has no map version " + std::to_string(version)
+                                         : "site " + site_id + " has no map yet");
+  }
+  version = row->version;
+  // Stored versions passed ParseSiteMapFiles; one that no longer parses is a damaged database.
+  return std::make_shared<const OccupancyGrid>(ParseMap(row->yaml, row->pgm, site_id + " version " + std::to_string(version)));
+}
+
+}  // namespace pslam::server

@@ -1,0 +1,21 @@
+#pragma once
+// Site maps as the engines use them: a stored version's map_server files parsed into a grid (by
+// the core's map_server reader), and the checks an uploaded map passes before it is stored.
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "pslam/grid/occupancy_grid.hpp"
+#include "storage/read_pool.hpp"
+
+namespace pslam::server {
+
+// Parses map_server files; throws ApiError 400 (code "bad_map") saying what is wrong. Only PGM
+// images (P5 or P2) are taken: their size is bounded by their bytes, unlike compressed formats.
+OccupancyGrid ParseSiteMapFiles(const std::string& yaml, const std::string& pgm, const std::string& name);
+
+// A stored version (0: the latest) as a grid; throws ApiError 404 for a missing site or version.
+// 'version' is set to the version loaded.
+std::shared_ptr<const OccupancyGrid> LoadSiteMap(ReadPool& reads, const std::string& site_id, std::int64_t& version);
+
+}  // namespace pslam::server
