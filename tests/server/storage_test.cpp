@@ -14,6 +14,7 @@
 #include "storage/migrate.hpp"
 #include "storage/read_pool.hpp"
 #include "storage/session_repository.hpp"
+#include "storage/site_repository.hpp"
 #include "storage/storage_writer.hpp"
 
 namespace pslam::server {
@@ -253,6 +254,39 @@ TEST_P(StorageContract, CheckpointsSessionsAndEventsRoundTripExactly) {
   EXPECT_FALSE(repo.GetSession("s-1"));
   EXPECT_TRUE(repo.LoadTiles("s-1").empty());  // cascaded
   EXPECT_TRUE(repo.ListEvents("s-1", 10, 0).empty());
+}
+
+TEST_P(StorageContract, SiteMapVersionsKeepTheirFilesByteForByte) {
+  Database db = OpenMigrated();
+  SiteRepository sites(db);
+  sites.CreateSite({"site-1", "first floor", 5.0});
+  SiteMapRow map;
+  map.site_id = "site-1";
+  map.resolution = 0.05;
+  map.width = 2;
+  map.height = 1;
+  map.yaml = "image: map.pgm\nresolution: 0.05\n";
+  map.pgm = std::string("P5\n2 1\n255\n\0\xff", 13);  // a NUL byte and a 255 inside
+  EXPECT_EQ(sites.AddMapVersion(map), 1);
+  map.source = "session";
+  map.session_id = "s-9";
+  EXPECT_EQ(sites.AddMapVersion(map), 2);
+  const auto listed = sites.ListSites(10, 0);
+  ASSERT_EQ(listed.size(), 1u);
+  EXPECT_EQ(listed[0].versions, 2);
+  EXPECT_EQ(listed[0].latest_version, 2);
+  const auto versions = sites.ListMapVersions("site-1");
+  ASSERT_EQ(versions.size(), 2u);
+  EXPECT_EQ(versions[0].version, 2);  // newest first
+  EXPECT_TRUE(versions[0].pgm.empty());
+  const auto first = sites.GetMapVersion("site-1", 1);
+  ASSERT_TRUE(first);
+  EXPECT_EQ(first->pgm, map.pgm);
+  EXPECT_EQ(first->yaml, map.yaml);
+  EXPECT_FALSE(first->session_id);
+  EXPECT_EQ(sites.GetMapVersion("site-1", 0)->session_id, "s-9");  // 0: the latest
+  EXPECT_FALSE(sites.GetMapVersion("site-1", 3));
+  EXPECT_FALSE(sites.GetSite("site-2"));
 }
 
 TEST_P(StorageContract, WriterCommitsBeforeCallingBackAndIsolatesFailingJobs) {
