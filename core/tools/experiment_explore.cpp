@@ -65,6 +65,9 @@ std::string RowJson(const ExploreRow& row) {
                      {"collisions", JsonNumber(static_cast<double>(s.collisions))},
                      {"targets", JsonNumber(s.targets)},
                      {"given_up", JsonNumber(s.given_up)},
+                     {"plans", JsonNumber(s.plans)},
+                     {"planning_ms_per_plan", JsonNumber(s.plans > 0 ? s.planning_ms / s.plans : 0.0)},
+                     {"max_planning_ms", JsonNumber(s.max_planning_ms)},
                      {"hypotheses", JsonNumber(s.hypotheses)},
                      {"confirmed", JsonNumber(s.slam.confirmed)},
                      {"refuted", JsonNumber(s.slam.refuted)},
@@ -87,8 +90,8 @@ std::string RowJson(const ExploreRow& row) {
 }
 
 void PrintHeader() {
-  std::printf("%-24s %4s %8s %8s %7s %5s %5s  %-10s %9s %8s %7s\n", "run", "seed", "time_s", "dist_m", "targets",
-              "hyp", "coll", "state", "pos_err_m", "map_psi", "psi_hyp");
+  std::printf("%-24s %4s %8s %8s %7s %5s %5s  %-10s %9s %8s %7s %7s %8s\n", "run", "seed", "time_s", "dist_m", "targets",
+              "hyp", "coll", "state", "pos_err_m", "map_psi", "psi_hyp", "plan_ms", "max_ms");
 }
 
 // Mean of the finite values (NaN: a hypothesis with no cell inside the world); 'count' gets how many.
@@ -106,10 +109,10 @@ double FiniteMean(const std::vector<double>& values, int* count = nullptr) {
 
 void PrintRow(const ExploreRow& row) {
   const ExplorationSummary& s = row.summary;
-  std::printf("%-24s %4llu %8.1f %8.1f %7d %5d %5zu  %-10s %9.3f %8.3f %7.3f\n", row.name.c_str(),
+  std::printf("%-24s %4llu %8.1f %8.1f %7d %5d %5zu  %-10s %9.3f %8.3f %7.3f %7.1f %8.1f\n", row.name.c_str(),
               static_cast<unsigned long long>(row.seed), s.time_s, s.distance_m, s.targets, s.hypotheses,
               s.collisions, ExplorationStateName(s.state), s.mean_position_error_m, row.map_psi,
-              FiniteMean(row.psi_truth));
+              FiniteMean(row.psi_truth), s.plans > 0 ? s.planning_ms / s.plans : 0.0, s.max_planning_ms);
 }
 
 constexpr double kCoverageSamplePeriodS = 10.0;

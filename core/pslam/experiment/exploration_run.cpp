@@ -1,6 +1,8 @@
 #include "pslam/experiment/exploration_run.hpp"
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <variant>
 
 namespace pslam {
@@ -126,14 +128,29 @@ bool ExplorationRun::Plan(const Pose2D& pose) {
       request.predicted_wall = [this](const Eigen::Vector2i& cell) { return slam_.IsPredictedWall(cell); };
       request.predicted = request.covered;
     }
-    const ExploreDecision decision =
-        skip && options_.plan_on_merged_map ? SelectNextTarget(slam_.MergedMap(), request, options_.explore)
-                                            : SelectNextTarget(slam_.filter().best().map, request, options_.explore);
+    const auto started = std::chrono::steady_clock::now();
+    const bool on_merged = skip && options_.plan_on_merged_map;
+    const ExploreDecision decision = on_merged ? SelectNextTarget(slam_.MergedMap(), request, options_.explore)
+                                               : SelectNextTarget(slam_.filter().best().map, request, options_.explore);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+    summary_.planning_ms += ms;
+    summary_.max_planning_ms = std::max(summary_.max_planning_ms, ms);
     ++summary_.plans;
     summary_.skipped_clusters = decision.skipped;
     hypothesis_arrived_ = false;
     if (decision.done()) {
       DropTarget();
+      // Frontiers given up are still unexplored: forget the give-ups and try them again, as long
+      // as the robot got somewhere since the last time. Otherwise it is stuck, not done.
+      if (decision.blacklisted > 0 && !decision.start_blocked) {
+        if (!reached_since_forgiving_) {
+          state_ = ExplorationState::kStuck;
+          return false;
+        }
+        blacklist_.clear();
+        reached_since_forgiving_ = false;
+        return Plan(pose);
+      }
       if (decision.start_blocked && ++blocked_plans_ <= options_.max_blocked_plans) {
         look_around_until_ = time() + options_.look_around_s;
       } else {
@@ -168,30 +185,41 @@ bool ExplorationRun::Plan(const Pose2D& pose) {
 DriveCommand ExplorationRun::Steer(ExplorationStep& out) {
   const double now = time();
   const DriveCommand back_off{-options_.back_off_speed, 0.0};
-  if (out.collided) {
-    // A first contact drops the target without blacklisting it: after the back-off it is most
-    // likely chosen again, and followed more tightly.
+  // A contact, or the obstacle stop holding the robot: both say where the robot stands, not that
+  // the target is out of reach (a robot held by a door jamb it faces gave up every target behind
+  // that door in turn). Back off and plan again with a shorter lookahead; only a second one within
+  // careful_s gives the target up.
+  const bool held = stopped_since_ >= 0.0 && now - stopped_since_ > options_.stuck_timeout_s;
+  if (out.collided || held) {
     if (now < careful_until_) {
       GiveUpTarget();
     } else {
       DropTarget();
     }
     careful_until_ = now + options_.careful_s;
+    stopped_since_ = -1.0;
     // Backing into something as well: stop backing and plan from here.
-    const bool was_backing_off = now < back_off_until_;
-    back_off_until_ = was_backing_off ? now : now + options_.back_off_s;
-    if (!was_backing_off) return back_off;
+    const bool was_backing_off = backing_off_;
+    backing_off_ = !was_backing_off;
+    back_off_until_ = now + options_.back_off_s;
+    if (backing_off_) return back_off;
   }
-  if (now < back_off_until_) return back_off;
+  if (backing_off_) {
+    if (now < back_off_until_) return back_off;
+    // Go on while the robot stands closer to a mapped wall than the planner's margin: planned
+    // from there, the way out leaves along the wall it touched and touches it again.
+    if (now < back_off_until_ + options_.max_extra_back_off_s &&
+        InsideWallMargin(slam_.filter().best().map, CurrentPoseEstimate().translation())) {
+      return back_off;
+    }
+    backing_off_ = false;
+  }
   if (now < look_around_until_) return {0.0, 0.5};  // turn in place so the laser sees around
   const Pose2D pose = CurrentPoseEstimate();
   FollowerOutput follow = follower_.Update(pose);
-  const bool held = stopped_since_ >= 0.0 && now - stopped_since_ > options_.stuck_timeout_s;
-  const bool give_up = target_ && held;
-  if (give_up) GiveUpTarget();
+  if (follow.goal_reached && target_) reached_since_forgiving_ = true;
   const bool skip_mode = options_.explore.mode == ExploreMode::kSkipPredicted;
-  const bool replan = !target_ || follow.goal_reached || give_up || now >= next_plan_time_ ||
-                      (skip_mode && hypothesis_arrived_);
+  const bool replan = !target_ || follow.goal_reached || now >= next_plan_time_ || (skip_mode && hypothesis_arrived_);
   if (replan) {
     out.planned = true;
     if (!Plan(pose)) return {};
@@ -205,6 +233,21 @@ DriveCommand ExplorationRun::Steer(ExplorationStep& out) {
     stopped_since_ = -1.0;
   }
   return command;
+}
+
+bool ExplorationRun::InsideWallMargin(const OccupancyGrid& map, const Eigen::Vector2d& position) const {
+  const PlannerOptions& planner = options_.explore.planner;
+  const double margin = planner.robot_radius + planner.inflation_margin;
+  const int reach = static_cast<int>(std::ceil(margin / map.resolution()));
+  const Eigen::Vector2i centre = map.WorldToCell(position);
+  for (int dy = -reach; dy <= reach; ++dy) {
+    for (int dx = -reach; dx <= reach; ++dx) {
+      const Eigen::Vector2i c = centre + Eigen::Vector2i(dx, dy);
+      if ((map.CellCenter(c) - position).norm() > margin) continue;
+      if (Classify(map, c, planner.classes) == CellClass::kOccupied) return true;
+    }
+  }
+  return false;
 }
 
 void ExplorationRun::GiveUpTarget() {

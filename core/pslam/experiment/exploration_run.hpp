@@ -41,7 +41,7 @@ struct ExplorationOptions {
   SimulatorOptions simulator;
   double time_limit_s = 3600.0;       // simulated seconds; the run stops there, unfinished
   double replan_period_s = 8.0;       // fold newly mapped space into the route this often
-  double stuck_timeout_s = 3.0;       // held by the obstacle stop this long: give the target up
+  double stuck_timeout_s = 3.0;       // held by the obstacle stop this long: treated as a contact
   // After a collision: reverse back_off_s at back_off_speed, plan again, and for careful_s follow
   // paths with careful_lookahead. Pure pursuit cuts a corner by part of its lookahead, and at a
   // 1 m door that cut is what touches the jamb. Only a collision within careful_s of another gives
@@ -51,6 +51,9 @@ struct ExplorationOptions {
   double back_off_speed = 0.1;        // m/s
   double careful_s = 30.0;
   double careful_lookahead = 0.25;    // m
+  // After back_off_s, backing off goes on for up to this long while the robot is still within
+  // the planner's wall margin (robot radius + inflation margin) of a mapped wall.
+  double max_extra_back_off_s = 5.0;
   // Per planning, how often a target may be re-chosen because its own prediction covered it.
   int max_skip_rounds = 4;
   // Skip-predicted only: plan on P-SLAM's merged map (the paper's "virtual mapping", Sec. II-B)
@@ -80,7 +83,8 @@ enum class ExplorationState {
   kRunning,
   kExplored,    // no frontier left that is reachable, not blacklisted and (skip mode) not covered
   kTimeLimit,
-  kStuck,       // the robot could not leave its cell max_blocked_plans times in a row
+  kStuck,       // the robot could not leave its cell max_blocked_plans times in a row, or only
+                // frontiers it gave up are left and it reached no goal since it last retried them
 };
 const char* ExplorationStateName(ExplorationState state);
 
@@ -101,6 +105,8 @@ struct ExplorationSummary {
   std::size_t collisions = 0;
   int scans = 0;
   int plans = 0;                       // calls to the explorer
+  double planning_ms = 0.0;            // wall time spent choosing targets, all plans
+  double max_planning_ms = 0.0;        // the slowest plan
   int targets = 0;                     // distinct targets chosen (each is a P-SLAM target T_k)
   int given_up = 0;                    // targets blacklisted after a repeated collision or a long stop
   int skipped_clusters = 0;            // frontier clusters skipped as covered at the last plan
@@ -154,6 +160,8 @@ class ExplorationRun {
   // Chooses the next target; returns false when there is none (state_ or look-around set).
   bool Plan(const Pose2D& pose);
   DriveCommand Steer(ExplorationStep& out);
+  // Whether an occupied cell of 'map' lies within the planner's wall margin of 'position'.
+  bool InsideWallMargin(const OccupancyGrid& map, const Eigen::Vector2d& position) const;
   // Blacklists the current target, if any, and drops it.
   void GiveUpTarget();
   // Forgets the current target and its path, so that the next step plans.
@@ -176,8 +184,10 @@ class ExplorationRun {
   double stopped_since_ = -1.0;    // simulated time the obstacle stop began holding the robot
   double look_around_until_ = -1.0;
   double back_off_until_ = -1.0;
+  bool backing_off_ = false;
   double careful_until_ = -1.0;
   int blocked_plans_ = 0;
+  bool reached_since_forgiving_ = true;  // a goal was reached since the blacklist was last cleared
   bool hypothesis_arrived_ = false;  // since the last plan
 
   std::vector<Hypothesis> accepted_;
