@@ -269,6 +269,16 @@ TEST_F(MazeRunTest, AContactBacksOffAndOnlyARepeatedOneGivesTheTargetUp) {
   EXPECT_EQ(run.state(), ExplorationState::kTimeLimit);  // nor ends exploring early
 }
 
+TEST_F(MazeRunTest, ARunLeftWithOnlyGivenUpFrontiersIsStuckNotExplored) {
+  ExplorationOptions options = ShortRunOptions(ExploreMode::kFullCoverage, 600.0);
+  options.slam.predict = false;
+  options.obstacle_stop.stop_distance = 3.0;  // held wherever a wall is ahead: targets are given up
+  ExplorationRun run(world_, start_, options);
+  run.Run();
+  ASSERT_GT(run.Summary().given_up, 0);
+  EXPECT_NE(run.state(), ExplorationState::kExplored);
+}
+
 TEST_F(MazeRunTest, PlainRbpfMakesNoPredictionsAndStopsAtTheTimeLimit) {
   ExplorationOptions options = ShortRunOptions(ExploreMode::kFullCoverage, 20.0);
   options.slam.predict = false;
