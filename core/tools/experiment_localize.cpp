@@ -80,7 +80,7 @@ int RunLocalizeExperiment(CliArgs& cli) {
 
   try {
     const OccupancyGrid map = world->world.ToGrid();
-    std::vector<double> position, heading, converge, mcl_cpu, map_cpu, recover;
+    std::vector<double> position, heading, converge, mcl_cpu, map_cpu, recover, false_localized;
     int never = 0, unrecovered = 0;
     std::vector<LocalizationSample> last_global;
     std::printf("%s, %d run(s) of %.0f m\n", world->path.c_str(), runs, options.distance);
@@ -117,15 +117,25 @@ int RunLocalizeExperiment(CliArgs& cli) {
       global.measure_mapping = false;
       const LocalizationTourResult found = RunLocalizationTour(world->world, map, world->start, global);
       const std::optional<double> at = ConvergenceDistance(found.samples, kConverged);
+      // Honesty: the share of scans that reported "localized" while the estimate was wrong.
+      int localized = 0, wrongly = 0;
+      for (const LocalizationSample& s : found.samples) {
+        if (!s.localized) continue;
+        ++localized;
+        if ((s.estimate.translation() - s.truth.translation()).norm() >= kConverged) ++wrongly;
+      }
+      false_localized.push_back(found.samples.empty() ? 0.0 : static_cast<double>(wrongly) / found.samples.size());
       if (at) converge.push_back(*at);
       else ++never;
-      std::printf("seed %llu global: %s, %.2f ms CPU/scan\n", static_cast<unsigned long long>(options.seed),
-                  at ? ("converged after " + std::to_string(*at) + " m").c_str() : "did not converge",
-                  found.localizer_cpu_ms_per_scan);
+      std::printf("seed %llu global: %s, localized at %d of %zu scans (wrongly at %d), %.2f ms CPU/scan\n",
+                  static_cast<unsigned long long>(options.seed),
+                  at ? ("converged after " + std::to_string(*at) + " m").c_str() : "did not converge", localized,
+                  found.samples.size(), wrongly, found.localizer_cpu_ms_per_scan);
       last_global = found.samples;
     }
     std::printf("mean tracking error   %.3f m, %.2f deg\n", Mean(position), Mean(heading) * 180.0 / std::numbers::pi);
-    std::printf("global localization   converged in %zu of %d runs, mean %.1f m driven\n", converge.size(), runs, Mean(converge));
+    std::printf("global localization   converged in %zu of %d runs, mean %.1f m driven; wrongly localized at %.1f %% of the scans\n",
+                converge.size(), runs, Mean(converge), 100.0 * Mean(false_localized));
     if (options.kidnap_after > 0.0) std::printf("kidnapping            recovered in %zu of %d runs, mean %.1f m driven\n", recover.size(), runs, Mean(recover));
     std::printf("CPU per scan          %.2f ms localizing", Mean(mcl_cpu));
     if (mapping) std::printf(", %.2f ms mapping", Mean(map_cpu));
@@ -138,6 +148,7 @@ int RunLocalizeExperiment(CliArgs& cli) {
                                            {"tracking_heading_error_rad", JsonArray(heading)},
                                            {"global_converged_after_m", JsonArray(converge)},
                                            {"global_not_converged", JsonNumber(never)},
+                                           {"global_wrongly_localized_share", JsonArray(false_localized)},
                                            {"kidnap_recovered_after_m", JsonArray(recover)},
                                            {"kidnap_not_recovered", JsonNumber(unrecovered)},
                                            {"localizer_cpu_ms_per_scan", JsonArray(mcl_cpu)},

@@ -36,8 +36,13 @@ LikelihoodField::LikelihoodField(const OccupancyGrid& map, const LikelihoodField
   }
   if (occupied_cells_ == 0) throw std::invalid_argument("the map has no obstacle to localize against");
   table_ = SquaredDistanceTransform(occupied, w, h);
-  const double cell2 = resolution_ * resolution_;
-  for (float& v : table_) v = Score(std::min(static_cast<double>(v) * cell2, cap * cap), o);
+  // With face_distance, the distance to an occupied cell's square rather than to its centre: an
+  // occupied cell says that a surface lies somewhere in it, and a beam ends on its face.
+  const double inset = o.face_distance ? 0.5 : 0.0;
+  for (float& v : table_) {
+    const double d = std::max(0.0, std::sqrt(static_cast<double>(v)) - inset) * resolution_;
+    v = Score(std::min(d * d, cap * cap), o);
+  }
 }
 
 float LikelihoodField::PointLogLikelihood(const Eigen::Vector2d& world) const {
@@ -47,6 +52,60 @@ float LikelihoodField::PointLogLikelihood(const Eigen::Vector2d& world) const {
   const auto x = static_cast<std::size_t>(static_cast<int>(fx) - box_.min.x());
   const auto y = static_cast<std::size_t>(static_cast<int>(fy) - box_.min.y());
   return table_[y * static_cast<std::size_t>(box_.width()) + x];
+}
+
+double LikelihoodField::InterpolatedLogLikelihood(const Eigen::Vector2d& world) const {
+  // Cell (i, j)'s value holds at its centre ((i + 0.5) r, (j + 0.5) r).
+  const double u = world.x() / resolution_ - 0.5, v = world.y() / resolution_ - 0.5;
+  const double fu = std::floor(u), fv = std::floor(v);
+  if (!(fu >= box_.min.x() && fu < box_.max.x() && fv >= box_.min.y() && fv < box_.max.y())) return miss_;
+  const auto x = static_cast<std::size_t>(static_cast<int>(fu) - box_.min.x());
+  const auto y = static_cast<std::size_t>(static_cast<int>(fv) - box_.min.y());
+  const auto w = static_cast<std::size_t>(box_.width());
+  const double a = u - fu, b = v - fv;
+  const float* row = &table_[y * w + x];
+  return (1.0 - b) * ((1.0 - a) * row[0] + a * row[1]) + b * ((1.0 - a) * row[w] + a * row[w + 1]);
+}
+
+Pose2D LikelihoodField::Refine(const std::vector<Eigen::Vector2f>& points, const Pose2D& initial, double max_shift,
+                               double max_turn, double min_step) const {
+  const auto score = [&](const Pose2D& pose) {
+    const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+    double sum = 0.0;
+    for (const auto& p : points) sum += InterpolatedLogLikelihood({pose.x + c * p.x() - s * p.y(), pose.y + s * p.x() + c * p.y()});
+    return sum;
+  };
+  Pose2D best = initial;
+  double best_score = score(best);
+  double step_xy = 0.04, step_theta = 0.02;
+  for (int evaluations = 0; step_xy >= min_step && evaluations < 200;) {
+    bool moved = false;
+    for (int axis = 0; axis < 3; ++axis) {
+      for (const double sign : {1.0, -1.0}) {
+        Pose2D candidate = best;
+        if (axis == 0) candidate.x += sign * step_xy;
+        else if (axis == 1) candidate.y += sign * step_xy;
+        else candidate = Pose2D(best.x, best.y, best.theta + sign * step_theta);
+        if (std::hypot(candidate.x - initial.x, candidate.y - initial.y) > max_shift ||
+            std::abs(NormalizeAngle(candidate.theta - initial.theta)) > max_turn) {
+          continue;
+        }
+        const double candidate_score = score(candidate);
+        ++evaluations;
+        if (candidate_score > best_score) {
+          best = candidate;
+          best_score = candidate_score;
+          moved = true;
+          break;
+        }
+      }
+    }
+    if (!moved) {
+      step_xy /= 2.0;
+      step_theta /= 2.0;
+    }
+  }
+  return best;
 }
 
 double LikelihoodField::LogLikelihood(const std::vector<Eigen::Vector2f>& points, const Pose2D& pose) const {

@@ -23,6 +23,14 @@ class LikelihoodField {
   double LogLikelihood(const std::vector<Eigen::Vector2f>& points, const Pose2D& pose) const;
   // The log score of one endpoint in world coordinates.
   float PointLogLikelihood(const Eigen::Vector2d& world) const;
+  // The same, bilinearly interpolated between cell centres: smooth, for refining a pose.
+  double InterpolatedLogLikelihood(const Eigen::Vector2d& world) const;
+  // The pose within max_shift (m) and max_turn (rad) of 'initial' that maximises the interpolated
+  // log-likelihood of the endpoints (robot frame), by a pattern search halving its steps (from
+  // 4 cm and 0.02 rad) until they are below min_step (m). The particle cloud limits the filter's
+  // estimate to its spread; this does not.
+  Pose2D Refine(const std::vector<Eigen::Vector2f>& points, const Pose2D& initial, double max_shift, double max_turn,
+                double min_step = 0.002) const;
   // The score of an endpoint max_distance or more from any obstacle, or off the map.
   float miss_log_likelihood() const { return miss_; }
   int occupied_cells() const { return occupied_cells_; }

@@ -23,6 +23,12 @@ const OptionTable<MclOptions>& Setters() {
       {"localized_weight", Option(&MclOptions::localized_weight)},
       {"localized_position_std", Option(&MclOptions::localized_position_std)},
       {"localized_heading_std", Option(&MclOptions::localized_heading_std)},
+      {"refine", Option(&MclOptions::refine)},
+      {"refine_max_points", Option(&MclOptions::refine_max_points)},
+      {"refine_max_shift", Option(&MclOptions::refine_max_shift)},
+      {"refine_max_turn", Option(&MclOptions::refine_max_turn)},
+      {"unlocalized_refine_shift", Option(&MclOptions::unlocalized_refine_shift)},
+      {"unlocalized_refine_turn", Option(&MclOptions::unlocalized_refine_turn)},
       {"seed", Option(&MclOptions::seed)},
       {"motion.rotation_per_rotation", Option(&MclOptions::motion, &MotionNoise::rotation_per_rotation)},
       {"motion.rotation_per_translation", Option(&MclOptions::motion, &MotionNoise::rotation_per_translation)},
@@ -35,6 +41,7 @@ const OptionTable<MclOptions>& Setters() {
       {"likelihood.occupied_probability", Option(&MclOptions::likelihood, &L::occupied_probability)},
       {"likelihood.max_beams", Option(&MclOptions::likelihood, &L::max_beams)},
       {"likelihood.temperature", Option(&MclOptions::likelihood, &L::temperature)},
+      {"likelihood.face_distance", Option(&MclOptions::likelihood, &L::face_distance)},
       {"points.max_usable_range", Option(&MclOptions::points, &ScanPointsOptions::max_usable_range)},
   };
   return setters;
@@ -64,6 +71,9 @@ std::string ValidateMclOptions(const MclOptions& o) {
   if (!(l.max_distance > 0.0) || l.max_distance > 50.0) return "likelihood.max_distance must be in (0, 50] m";
   if (!(l.temperature > 0.0) || l.max_beams < 1) return "need likelihood.temperature > 0 and max_beams >= 1";
   if (!(l.occupied_probability > 0.5 && l.occupied_probability < 1.0)) return "need 0.5 < likelihood.occupied_probability < 1";
+  if (o.refine_max_points < 1 || !(o.refine_max_shift >= 0.0) || !(o.refine_max_turn >= 0.0) ||
+      !(o.unlocalized_refine_shift >= 0.0) || !(o.unlocalized_refine_turn >= 0.0))
+    return "need refine_max_points >= 1 and non-negative refine and unlocalized_refine bounds";
   return "";
 }
 

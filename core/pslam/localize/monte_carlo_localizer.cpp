@@ -201,6 +201,7 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
   const Pose2D delta = Between(update_odometry_, scan.odometry);
   if (!force_update_ && !MovedEnough(delta, options_)) {
     last_.estimate = last_.cluster.mean * delta;  // between updates, odometry carries the estimate
+    RefineEstimate(scan);
     return last_;
   }
   ++step_;
@@ -211,6 +212,14 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
   update_odometry_ = scan.odometry;
   force_update_ = false;
   const std::vector<Eigen::Vector2f> points = SelectBeams(ToScanPoints(scan, options_.points).hits, options_.likelihood.max_beams);
+  if (!points.empty() && !last_.localized && options_.unlocalized_refine_shift > 0.0) {
+    // While not localized, each particle first moves to the best-fitting pose near it, so that a
+    // place's weight says how well the place explains the scan, not how close its nearest
+    // particle happened to land: otherwise a look-alike place is lost to chance in the first
+    // updates of a spread cloud.
+    // To a centimetre: the weights need the place, not the last millimetre.
+    for (Pose2D& pose : poses_) pose = field_.Refine(points, pose, options_.unlocalized_refine_shift, options_.unlocalized_refine_turn, 0.01);
+  }
   if (!points.empty()) Weigh(points);
   last_.updated = true;
   last_.effective_sample_size = EffectiveSampleSize(weights());
@@ -224,7 +233,14 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
   }
   ++stats_.updates;
   Summarize();
+  RefineEstimate(scan);
   return last_;
+}
+
+void MonteCarloLocalizer::RefineEstimate(const LaserScan& scan) {
+  if (!options_.refine || !last_.localized) return;
+  const std::vector<Eigen::Vector2f> points = SelectBeams(ToScanPoints(scan, options_.points).hits, options_.refine_max_points);
+  if (!points.empty()) last_.estimate = field_.Refine(points, last_.estimate, options_.refine_max_shift, options_.refine_max_turn);
 }
 
 }  // namespace pslam

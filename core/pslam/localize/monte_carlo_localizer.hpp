@@ -25,7 +25,9 @@ struct MclUpdate {
   int injected = 0;              // random particles drawn at this resampling
   double effective_sample_size = 0.0;  // before resampling
   double injection_probability = 0.0;  // 1 - w_fast / w_slow, at least 0
-  Pose2D estimate;               // mean of the heaviest cluster, moved on by odometry since the update
+  // The mean of the heaviest cluster, moved on by odometry since the update; with
+  // MclOptions::refine, once localized, refined against the map at every scan.
+  Pose2D estimate;
   ParticleCluster cluster;       // the heaviest cluster at the last update
   int clusters = 0;
   bool localized = false;        // the heaviest cluster is heavy and tight enough (MclOptions)
@@ -68,6 +70,7 @@ class MonteCarloLocalizer {
   void Weigh(const std::vector<Eigen::Vector2f>& points);
   void Resample();
   void Summarize();
+  void RefineEstimate(const LaserScan& scan);
 
   MclOptions options_;
   LikelihoodField field_;
