@@ -91,6 +91,38 @@ WriterStats StorageWriter::stats() const {
   return stats_;
 }
 
+bool StorageWriter::RunAtOnce(std::vector<Pending>& batch) {
+  try {
+    Transaction tx(db_);
+    for (Pending& p : batch) p.job(repository_);
+    tx.Commit();
+    return true;
+  } catch (const std::exception&) {
+    return false;  // rolled back; the jobs run again one by one to find the failing one
+  }
+}
+
+void StorageWriter::RunOneByOne(std::vector<Pending>& batch, std::vector<std::string>& errors,
+                                std::string& commit_error) {
+  try {
+    Transaction tx(db_);
+    for (std::size_t i = 0; i < batch.size(); ++i) {
+      try {
+        Savepoint savepoint(db_);
+        batch[i].job(repository_);
+        savepoint.Release();
+      } catch (const std::exception& e) {
+        errors[i] = e.what();
+        if (errors[i].empty()) errors[i] = "storage job failed";
+      }
+    }
+    tx.Commit();
+  } catch (const std::exception& e) {
+    commit_error = std::string("commit failed: ") + e.what();
+    std::cerr << "storage: " << commit_error << "\n";
+  }
+}
+
 void StorageWriter::Loop() {
   for (;;) {
     std::vector<Pending> batch;
@@ -106,23 +138,7 @@ void StorageWriter::Loop() {
     const SteadyTime start = SteadyNow();
     std::vector<std::string> errors(batch.size());
     std::string commit_error;
-    try {
-      Transaction tx(db_);
-      for (std::size_t i = 0; i < batch.size(); ++i) {
-        try {
-          Savepoint savepoint(db_);
-          batch[i].job(repository_);
-          savepoint.Release();
-        } catch (const std::exception& e) {
-          errors[i] = e.what();
-          if (errors[i].empty()) errors[i] = "storage job failed";
-        }
-      }
-      tx.Commit();
-    } catch (const std::exception& e) {
-      commit_error = std::string("commit failed: ") + e.what();
-      std::cerr << "storage: " << commit_error << "\n";
-    }
+    if (!RunAtOnce(batch)) RunOneByOne(batch, errors, commit_error);
     const double ms = SecondsSince(start) * 1e3;
     std::size_t failed = 0;
     for (std::size_t i = 0; i < batch.size(); ++i) {

@@ -2,7 +2,9 @@
 // The single writer of the database, on its own thread (SQLite has one writer at a time, a
 // PostgreSQL round trip costs time, and slow commits must never stall the network threads). Jobs queue up while a commit is in progress and
 // the next batch runs in one transaction: group commit, so one fsync acknowledges many inputs.
-// Each job runs in its own savepoint, so one failing job does not take its batch down with it.
+// A failing job does not take its batch down with it: the batch is then rolled back and run again
+// with each job in its own savepoint. (Savepoints for every job would cost PostgreSQL two more
+// round trips per job.) Jobs must therefore be safe to run twice: they only write rows.
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -11,6 +13,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "common/recent_failure.hpp"
 #include "common/result.hpp"
@@ -58,6 +61,10 @@ class StorageWriter {
   };
   StorageWriter(Database db, int schema_version);
   void Loop();
+  // The batch in one transaction; false (rolled back) if a job or the commit failed.
+  bool RunAtOnce(std::vector<Pending>& batch);
+  // Each job in its own savepoint; 'errors' per job, or 'commit_error' for all.
+  void RunOneByOne(std::vector<Pending>& batch, std::vector<std::string>& errors, std::string& commit_error);
 
   Database db_;
   SessionRepository repository_;
