@@ -43,8 +43,12 @@ struct RbpfOptions {
   // Tracking starts from odometry alone and must also pull the pose back onto old structure when
   // the robot returns to it after a long excursion (the last loop of the Intel log): it matches
   // from 40 cm pooled cells down. Particles start from the tracked pose and need less.
-  ScanMatchOptions tracking_match{.coarsest_level = 3};
-  ScanMatchOptions particle_match{.coarsest_level = 1};
+  // Both keep odometry along a direction the scan barely constrains (degenerate_ratio): in a long
+  // corridor the match otherwise slides, and every particle with it, since each is refined onto
+  // the same optimum. On ACES at 10 particles, seed 9, the estimate fell 6 m behind the robot in
+  // one corridor and the map doubled it (docs/loop-closure.md).
+  ScanMatchOptions tracking_match{.coarsest_level = 3, .degenerate_ratio = 0.15};
+  ScanMatchOptions particle_match{.coarsest_level = 1, .degenerate_ratio = 0.15};
   LikelihoodOptions likelihood;
   MotionNoise motion;
   // Loop closure over a pose graph of the best particle's updates (pslam/graph/loop_closure.hpp).
