@@ -8,6 +8,8 @@ import { replayRequest, type ReplayForm } from '../src/ui/replay_dialog';
 import { parseRoute, routeFor } from '../src/ui/route';
 import { trackingWarning } from '../src/ui/tracking';
 import { areaText, explorationNotice } from '../src/ui/exploration_banner';
+import { localizationRows } from '../src/ui/localization';
+import { poseFromDrag } from '../src/render/pose_tool';
 
 describe('routes', () => {
   it('round-trip one and two sessions', () => {
@@ -134,5 +136,30 @@ describe('replay requests', () => {
       speed: 5,
       settings: { predict: true, particles: 20, seed: 3, resolution_meters: 0.1 },
     });
+  });
+});
+
+describe('localization rows', () => {
+  it('say nothing for a server that does not report the mode, and only the mode when mapping', () => {
+    expect(localizationRows({})).toEqual([]);
+    expect(localizationRows({ mode: 'map' }).map((r) => r.value)).toEqual(['map']);
+  });
+
+  it('say whether a localize session is localized, with its spread', () => {
+    const rows = localizationRows({ mode: 'localize', localization: { localized: true, position_std_m: 0.034, heading_std_rad: Math.PI / 180, cluster_weight: 0.93, clusters: 2 } });
+    expect(rows.find((r) => r.label === 'localized')?.value).toBe('yes (± 0.03 m, ± 1.0°)');
+    expect(rows.find((r) => r.label === 'best cluster')?.value).toBe('93 % of 2 clusters');
+    expect(localizationRows({ mode: 'localize', localization: { localized: false } })[1].value).toBe('no');
+  });
+});
+
+describe('set-pose drag', () => {
+  it('puts the pose at the press and heads it towards the release', () => {
+    const p = poseFromDrag(1, 2, 1, 3);
+    expect(p.x).toBe(1);
+    expect(p.y).toBe(2);
+    expect(p.theta).toBeCloseTo(Math.PI / 2);
+    expect(poseFromDrag(0, 0, -1, 0).theta).toBeCloseTo(Math.PI);
+    expect(poseFromDrag(4, 5, 4, 5).theta).toBe(0); // a click: heading 0
   });
 });

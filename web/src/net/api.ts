@@ -135,6 +135,29 @@ export interface ReplayFile {
   kind: 'log' | 'relations' | 'reference_map';
 }
 
+// A site (a building, a floor) and one of its map versions (GET /api/sites, /api/sites/{id}/maps).
+export interface Site {
+  id: string;
+  name: string;
+  created_at?: number;
+  versions?: number;
+  latest_version?: number | null;
+}
+
+export interface SiteMap {
+  site_id: string;
+  version: number;
+  created_at?: number;
+  source?: 'session' | 'import';
+  session_id?: string | null;
+  note?: string;
+  resolution?: number;
+  image?: { width?: number; height?: number; origin?: number[] };
+}
+
+export const siteMapFileUrl = (site: string, version: number, file: 'map.pgm' | 'map.yaml') =>
+  `/api/sites/${sid(site)}/maps/${version}/${file}`;
+
 export const api = {
   health: () => request<{ status: string; running_sessions: number; viewers: number; agents: number }>('GET', '/api/health'),
   version: () => request<{ server: string; version: string; live_protocol: number }>('GET', '/api/version'),
@@ -149,4 +172,8 @@ export const api = {
   startReplay: (body: ReplayRequest) => request<SessionInfo>('POST', '/api/replays', body),
   replayFiles: () => request<{ files: ReplayFile[] }>('GET', '/api/replays/files'),
   closeSession: (id: string) => request<SessionInfo>('POST', `/api/sessions/${sid(id)}/close`),
+  setInitialPose: (id: string, pose: { x: number; y: number; theta: number }) =>
+    request<{ session_id: string; initial_pose: Record<string, number> }>('POST', `/api/sessions/${sid(id)}/initial_pose`, pose),
+  sites: (limit = 200) => request<{ sites: Site[]; total: number }>('GET', `/api/sites?limit=${limit}`),
+  siteMaps: (site: string) => request<{ site_id: string; maps: SiteMap[] }>('GET', `/api/sites/${sid(site)}/maps`),
 };

@@ -64,6 +64,20 @@ export interface EngineStats {
   mapped_m2?: number;
   predicted_m2?: number;
   predicted_frontiers?: number;
+  // 'map' or 'localize'; in localize mode, whether the robot is localized on the site's map.
+  mode?: string;
+  localization?: LocalizationStats;
+}
+
+// The heaviest particle cluster of a localize session and its spread (localized: at least 80 %
+// of the weight within 0.15 m and 5 degrees).
+export interface LocalizationStats {
+  localized?: boolean;
+  cluster_weight?: number;
+  position_std_m?: number;
+  heading_std_rad?: number;
+  clusters?: number;
+  injected?: number;
 }
 
 export interface SnapshotMessage {

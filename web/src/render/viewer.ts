@@ -5,6 +5,7 @@
 import { Camera, niceScaleBar, type WorldBox } from './camera';
 import type { DrawContext, Layer } from './layer';
 import type { MapLayer } from './map_layer';
+import type { PointerTool } from './pose_tool';
 
 export interface FrameStats {
   frames: number;
@@ -55,6 +56,8 @@ export class Viewer {
   describeCell: ((x: number, y: number) => string) | null = null;
   // Called with world coordinates on a click that was not a drag.
   onClick: ((x: number, y: number) => void) | null = null;
+  // While set, a single pointer's press, drag and release go to the tool instead of panning.
+  pointerTool: PointerTool | null = null;
 
   constructor(readonly container: HTMLElement) {
     this.canvas = document.createElement('canvas');
@@ -304,8 +307,19 @@ export class Viewer {
       },
       { passive: false },
     );
+    const world = (e: PointerEvent): [number, number] => {
+      const [x, y] = local(e);
+      return this.camera.screenToWorld(x * this.dpr, y * this.dpr);
+    };
+    let toolPointer: number | null = null;
     c.addEventListener('pointerdown', (e) => {
       c.setPointerCapture(e.pointerId);
+      if (this.pointerTool && this.pointers.size === 0 && toolPointer === null && e.button === 0) {
+        toolPointer = e.pointerId;
+        this.pointerTool.down(...world(e));
+        this.requestRender();
+        return;
+      }
       const [x, y] = local(e);
       this.pointers.set(e.pointerId, { x, y });
       dragDistance = 0;
@@ -314,6 +328,12 @@ export class Viewer {
     c.addEventListener('pointermove', (e) => {
       const [x, y] = local(e);
       this.cursor = [x, y];
+      if (e.pointerId === toolPointer) {
+        this.pointerTool?.move(...world(e));
+        this.updateCursor();
+        this.requestRender();
+        return;
+      }
       const p = this.pointers.get(e.pointerId);
       if (!p) {
         this.updateCursor();
@@ -340,6 +360,13 @@ export class Viewer {
       this.updateCursor();
     });
     const end = (e: PointerEvent) => {
+      if (e.pointerId === toolPointer) {
+        toolPointer = null;
+        if (e.type === 'pointerup') this.pointerTool?.up(...world(e));
+        else this.pointerTool?.cancel();
+        this.requestRender();
+        return;
+      }
       const wasSingle = this.pointers.size === 1;
       this.pointers.delete(e.pointerId);
       if (e.type === 'pointerup' && wasSingle && dragDistance < 4 && this.onClick) {

@@ -1,11 +1,14 @@
 // One map pane: a session's live client, its viewer with every layer, and the pane's header and
-// toolbar (status, connection, zoom, fit, follow, pause).
+// toolbar (status, connection, zoom, fit, follow, pause, and for a running localize session the
+// set-pose tool).
+import { api } from '../net/api';
 import { SessionClient } from '../net/session_client';
 import { ExplorationLayer } from '../render/exploration_layer';
 import { HypothesisLayer, predictedCellBox, type HypothesisColoring } from '../render/hypothesis_layer';
 import { MapLayer } from '../render/map_layer';
 import { buildMapPalette } from '../render/palette';
 import { ParticleLayer } from '../render/particle_layer';
+import { PoseTool, type WorldPose } from '../render/pose_tool';
 import { RobotLayer, TrajectoryLayer } from '../render/robot_layer';
 import { ScanLayer } from '../render/scan_layer';
 import { Viewer } from '../render/viewer';
@@ -32,6 +35,10 @@ export class SessionView {
   private readonly pauseButton: HTMLButtonElement;
   private readonly followButton: HTMLButtonElement;
   private readonly notice: HTMLElement;
+  private readonly poseButton: HTMLButtonElement;
+  private readonly poseTool = new PoseTool((pose) => void this.sendPose(pose));
+  // The outcome of the last set-pose, shown for a few seconds.
+  private poseMessage: { text: string; level: 'info' | 'error'; time: number } | null = null;
   private readonly banner = new ExplorationBanner();
   private following = false;
   // Keep the whole map in view as it grows, until the user moves the camera.
@@ -55,6 +62,11 @@ export class SessionView {
       'data-action': 'pause',
     });
     this.followButton = button(icons.follow, 'Follow the robot', () => this.setFollow(!this.following), { 'data-action': 'follow' });
+    this.poseButton = h(
+      'button',
+      { class: 'small', 'data-action': 'set-pose', hidden: true, title: "Set the robot's pose: press on the map at its position, drag towards its heading, release", onclick: () => this.setPoseToolArmed(this.viewer.pointerTool === null) },
+      'Set pose',
+    );
     this.notice = h('div', { class: 'pane-notice', hidden: true });
     this.element = h(
       'section',
@@ -67,6 +79,7 @@ export class SessionView {
         this.statusBadge,
         this.connText,
         h('span', { class: 'spacer' }),
+        this.poseButton,
         button(icons.zoomOut, 'Zoom out', () => this.userZoom(0.8)),
         button(icons.zoomIn, 'Zoom in', () => this.userZoom(1.25)),
         button(icons.fit, 'Fit the map and keep it fitted as it grows (double-click the map)', () => this.setAutoFit(true), { 'data-action': 'fit' }),
@@ -93,6 +106,7 @@ export class SessionView {
     v.addLayer(new ParticleLayer(this.client.robot));
     v.addLayer(new ScanLayer(this.client.robot));
     v.addLayer(new RobotLayer(this.client.robot));
+    v.addLayer(this.poseTool);
     for (const id of kLayerIds) v.setLayerVisible(id, visibility[id] !== false);
     v.fitBox = () =>
       fitBox(this.client.map.knownWorldBounds(), predictedCellBox(this.client.hypotheses), this.client.map.resolution, this.client.robot.pose);
@@ -107,11 +121,44 @@ export class SessionView {
     v.onClick = (x, y) => this.pickHypothesis(x, y);
     this.unsubscribe = this.client.subscribe((e) => {
       if (e.kind === 'state' || e.kind === 'status' || e.kind === 'snapshot' || e.kind === 'error') this.updateHeader();
+      else if (e.kind === 'stats' && this.poseButton.hidden === this.canSetPose) this.updateHeader();
       if (e.kind === 'stats' || e.kind === 'snapshot') this.banner.update(this.client.stats.latest);
       if (e.kind === 'tile' || e.kind === 'snapshot' || e.kind === 'hypotheses') this.maybeFit();
       v.requestRender();
       this.onChange?.(e.kind);
     });
+    this.updateHeader();
+  }
+
+  // The set-pose tool is offered while the session localizes on a site's map and runs.
+  get canSetPose(): boolean {
+    return this.client.stats.latest.mode === 'localize' && this.client.status === 'active' && !this.client.isPaused;
+  }
+
+  // Armed, the next press-drag-release on the map sets the pose instead of panning.
+  setPoseToolArmed(on: boolean): void {
+    const armed = on && this.canSetPose;
+    if (!armed) this.poseTool.cancel();
+    this.viewer.pointerTool = armed ? this.poseTool : null;
+    this.poseButton.classList.toggle('active', armed);
+    this.element.classList.toggle('placing-pose', armed);
+    this.viewer.invalidate();
+  }
+
+  private async sendPose(pose: WorldPose): Promise<void> {
+    this.setPoseToolArmed(false);
+    try {
+      await api.setInitialPose(this.sessionId, pose);
+      const deg = (pose.theta * 180) / Math.PI;
+      this.showPoseMessage(`Pose set: x ${pose.x.toFixed(2)} m, y ${pose.y.toFixed(2)} m, heading ${deg.toFixed(0)}°`, 'info');
+    } catch (e) {
+      this.showPoseMessage(`Setting the pose failed: ${(e as Error).message}`, 'error');
+    }
+  }
+
+  private showPoseMessage(text: string, level: 'info' | 'error'): void {
+    this.poseMessage = { text, level, time: Date.now() };
+    this.element.dataset.poseResult = level;
     this.updateHeader();
   }
 
@@ -149,6 +196,7 @@ export class SessionView {
     this.pauseButton.replaceChildren(iconElement(paused ? icons.play : icons.pause));
     this.pauseButton.title = paused ? 'Play: show the latest state' : 'Pause the view (updates are kept and shown on play)';
     this.pauseButton.classList.toggle('active', paused);
+    if (paused) this.setPoseToolArmed(false);
     this.element.classList.toggle('paused', paused);
     this.viewer.invalidate();
     this.updateHeader();
@@ -240,6 +288,8 @@ export class SessionView {
 
   private updateHeader(): void {
     const c = this.client;
+    this.poseButton.hidden = !this.canSetPose;
+    if (!this.canSetPose && this.viewer.pointerTool) this.setPoseToolArmed(false);
     const status = c.isPaused ? 'paused' : c.status;
     this.statusBadge.textContent = status;
     this.statusBadge.className = `badge status-${status}`;
@@ -262,6 +312,12 @@ export class SessionView {
       this.notice.hidden = false;
       this.notice.textContent = c.connectionState === 'failed' ? `Live view refused: ${c.connectionDetail}` : `Connection lost: ${c.connectionDetail}`;
       this.notice.className = 'pane-notice warn';
+    } else if (this.poseMessage && Date.now() - this.poseMessage.time < 8000) {
+      this.notice.hidden = false;
+      this.notice.textContent = this.poseMessage.text;
+      this.notice.className = `pane-notice ${this.poseMessage.level}`;
+      this.notice.dataset.pose = this.poseMessage.level;
+      setTimeout(() => this.updateHeader(), 8100);
     } else if (last && Date.now() - last.time < 8000) {
       this.notice.hidden = false;
       this.notice.textContent = last.message;

@@ -10,6 +10,7 @@ import type { EngineStats } from '../net/protocol';
 import type { StatsStore } from '../state/stats_store';
 import { h, formatNumber } from './dom';
 import { evaluationRows } from './evaluation';
+import { localizationRows } from './localization';
 import type { SessionView } from './session_view';
 import { trackingWarning } from './tracking';
 
@@ -158,6 +159,7 @@ export class StatsPanel {
       ['render', `${formatNumber(frame.drawMeanMs, 2)} ms / frame`, `time to issue a frame's drawing (the browser rasterises after): p95 ${frame.drawP95Ms.toFixed(2)} ms, max ${frame.drawMaxMs.toFixed(2)} ms`],
       ['tile update', `${formatNumber(tileMean, 3)} ms`, 'decode + store, mean of recent tiles (upload is in the frame time)'],
     ];
+    items.unshift(...localizationRows(st).map((r): [string, string, string?] => [r.label, r.value, r.title]));
     if (st.rebuilding) items.unshift(['state', 'rebuilding after restart']);
     const live = c.status === 'active';
     this.numbers.replaceChildren(
