@@ -36,7 +36,7 @@ export class SessionView {
   private readonly followButton: HTMLButtonElement;
   private readonly notice: HTMLElement;
   private readonly poseButton: HTMLButtonElement;
-  private readonly poseTool = new PoseTool((pose) => void this.sendPose(pose));
+  private readonly poseTool = new PoseTool((pose) => void this.setPose(pose));
   // The outcome of the last set-pose, shown for a few seconds.
   private poseMessage: { text: string; level: 'info' | 'error'; time: number } | null = null;
   private readonly banner = new ExplorationBanner();
@@ -145,7 +145,8 @@ export class SessionView {
     this.viewer.invalidate();
   }
 
-  private async sendPose(pose: WorldPose): Promise<void> {
+  // Sends the pose to the server and shows the outcome.
+  async setPose(pose: WorldPose): Promise<void> {
     this.setPoseToolArmed(false);
     try {
       await api.setInitialPose(this.sessionId, pose);
