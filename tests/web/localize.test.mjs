@@ -3,9 +3,10 @@
 // (a robot driving through that room, its scans ray-cast by the test), and the viewer in Debian's
 // chromium where the operator sets the robot's pose by a real mouse drag on the map. The session
 // starts sure of a pose 2.5 m off and without random particles: only the dragged pose can put it
-// right. Run: npm --prefix web run test:browser (after the build).
+// right. Also the sites panel: the site, its map version and the version's files as imported.
+// Run: npm --prefix web run test:browser (after the build).
 import assert from 'node:assert/strict';
-import { existsSync } from 'node:fs';
+import { existsSync, readFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { join } from 'node:path';
 import { after, before, describe, it } from 'node:test';
@@ -119,7 +120,7 @@ async function getJson(url, init) {
 const postJson = (url, body) => getJson(url, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
 
 describe('setting a localize session pose in the viewer', { skip }, () => {
-  let dir, server, browser, page, artifacts, robot, site, sessionId;
+  let dir, server, browser, page, artifacts, robot, site, sessionId, map;
   const pageErrors = [];
   const shot = (name) => page.screenshot({ path: join(artifacts, `${name}.png`) });
   const filterStats = async () => (await getJson(`${server.url}/api/sessions/${sessionId}/stats`)).filter;
@@ -129,7 +130,7 @@ describe('setting a localize session pose in the viewer', { skip }, () => {
     dir = tempDir('pslam-web-localize-');
     server = await startServer({ dataDir: join(dir, 'data') });
     site = (await postJson(`${server.url}/api/sites`, { name: 'room' })).id;
-    const map = roomMap();
+    map = roomMap();
     await postJson(`${server.url}/api/sites/${site}/maps`, { yaml: map.yaml, pgm_base64: map.pgm.toString('base64'), note: 'drawn by the test' });
 
     // Sure of a pose 2.5 m off, with no random particles to find the way back by itself.
@@ -221,6 +222,22 @@ describe('setting a localize session pose in the viewer', { skip }, () => {
     for (const p of poses.filter((q) => q.seq > 100)) {
       const t = poseAt(p.seq);
       assert.ok(Math.hypot(p.x - t.x, p.y - t.y) < 0.1, `scan ${p.seq}: estimate ${p.x}, ${p.y}, truth ${t.x}, ${t.y}`);
+    }
+  });
+
+  it('lists the site and its map version, whose files download as imported', async () => {
+    const row = page.locator(`.site-row[data-site="${site}"]`);
+    await row.waitFor({ timeout: 20000 });
+    assert.match(await row.locator('summary').innerText(), /room\s+1 map/);
+    await row.locator('summary').click();
+    const version = row.locator('.site-map[data-version="1"]');
+    await version.waitFor({ timeout: 10000 });
+    assert.match(await version.innerText(), /^v1\nimported · \d+ × \d+ · 0\.05 m\/cell/);
+    for (const [file, bytes] of [['map.pgm', map.pgm], ['map.yaml', Buffer.from(map.yaml)]]) {
+      const [download] = await Promise.all([page.waitForEvent('download'), version.locator(`a[data-file="${file}"]`).click()]);
+      const saved = join(dir, `downloaded-${file}`);
+      await download.saveAs(saved);
+      assert.ok(readFileSync(saved).equals(bytes), `${file} differs from what was imported`);
     }
   });
 

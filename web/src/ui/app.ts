@@ -1,6 +1,6 @@
-// The viewer's shell: session list on the left, one or two map panes in the middle, layers,
-// predictions and statistics on the right (in compare mode, one block per pane, each following its
-// own session). Routes: #/session/ID and #/compare/ID1/ID2.
+// The viewer's shell: sessions and sites (with their map versions) on the left, one or two map
+// panes in the middle, layers, predictions and statistics on the right (in compare mode, one block
+// per pane, each following its own session). Routes: #/session/ID and #/compare/ID1/ID2.
 import { api, type SessionInfo } from '../net/api';
 import type { HypothesisColoring } from '../render/hypothesis_layer';
 import { h } from './dom';
@@ -12,6 +12,7 @@ import { ReplayDialog } from './replay_dialog';
 import { parseRoute, routeFor } from './route';
 import { SessionList } from './session_list';
 import { SessionView, kLayerIds, type LayerId } from './session_view';
+import { SitesPanel } from './sites_panel';
 import { StatsPanel } from './stats_panel';
 
 const kPrefsKey = 'pslam.viewer.prefs';
@@ -38,6 +39,7 @@ export class App {
   private readonly prefs = loadPrefs();
   private readonly panes: HTMLElement;
   private readonly sessionList: SessionList;
+  private readonly sitesPanel = new SitesPanel();
   private readonly layerPanel: LayerPanel;
   // Per pane: its predictions and statistics panels.
   private readonly panels = new Map<SessionView, { hypotheses: HypothesisPanel; stats: StatsPanel; titles: HTMLElement[] }>();
@@ -123,7 +125,7 @@ export class App {
           h('button', { 'data-action': 'open-replay', onclick: () => this.replayDialog.open(this.sessionList.sessions, this.views[this.focused]?.sessionId) }, 'Replay…'),
           this.exportMenu,
         ),
-        h('aside', { class: 'sidebar left' }, section('Sessions', this.sessionList.element, 'sessions')),
+        h('aside', { class: 'sidebar left' }, section('Sessions', this.sessionList.element, 'sessions'), section('Sites', this.sitesPanel.element, 'sites')),
         this.panes,
         h(
           'aside',
@@ -146,6 +148,7 @@ export class App {
 
   start(): void {
     this.sessionList.start();
+    this.sitesPanel.start();
     this.route();
   }
 
