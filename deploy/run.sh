@@ -51,7 +51,7 @@ done
 # The simulated LMS-200 reaches 8 m, so in a long corridor it sees neither end: the degeneracy
 # guard keeps scan matching from sliding along it (README, Experiments).
 build/bin/pslam-agent --server "127.0.0.1:$port" --source "sim:$world" --rate "$rate" \
-  --spool "$data/agent-spool" --session-name "simulated $world" --settings '{"degenerate_ratio": 0.15}' &
+  --spool "$data/agent-spool" --session-name "simulated $world" &
 agent_pid=$!
 
 echo

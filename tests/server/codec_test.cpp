@@ -75,14 +75,18 @@ TEST(IngestCodecTest, JsonScansAreCheckedStrictly) {
 
 TEST(SettingsCodecTest, DegeneracyGuardReachesBothScanMatchesAndIsBounded) {
   const SettingsLimits limits;
-  const SessionSettings s = ParseSessionSettings(nlohmann::json{{"degenerate_ratio", 0.15}}, {}, limits);
-  EXPECT_DOUBLE_EQ(s.degenerate_ratio, 0.15);
+  const SessionSettings s = ParseSessionSettings(nlohmann::json{{"degenerate_ratio", 0.3}}, {}, limits);
+  EXPECT_DOUBLE_EQ(s.degenerate_ratio, 0.3);
   const PSlamOptions options = ToPSlamOptions(s);
-  EXPECT_DOUBLE_EQ(options.filter.tracking_match.degenerate_ratio, 0.15);
-  EXPECT_DOUBLE_EQ(options.filter.particle_match.degenerate_ratio, 0.15);
+  EXPECT_DOUBLE_EQ(options.filter.tracking_match.degenerate_ratio, 0.3);
+  EXPECT_DOUBLE_EQ(options.filter.particle_match.degenerate_ratio, 0.3);
   // Stored sessions come back with the same settings.
-  EXPECT_DOUBLE_EQ(ParseSessionSettings(SessionSettingsToJson(s), {}, limits).degenerate_ratio, 0.15);
-  EXPECT_DOUBLE_EQ(ToPSlamOptions(SessionSettings{}).filter.tracking_match.degenerate_ratio, 0.0);  // off by default
+  EXPECT_DOUBLE_EQ(ParseSessionSettings(SessionSettingsToJson(s), {}, limits).degenerate_ratio, 0.3);
+  // On by default, as in the core (pslam run); 0 turns it off.
+  EXPECT_DOUBLE_EQ(ToPSlamOptions(SessionSettings{}).filter.tracking_match.degenerate_ratio,
+                   RbpfOptions{}.tracking_match.degenerate_ratio);
+  EXPECT_GT(SessionSettings{}.degenerate_ratio, 0.0);
+  EXPECT_DOUBLE_EQ(ParseSessionSettings(nlohmann::json{{"degenerate_ratio", 0}}, {}, limits).degenerate_ratio, 0.0);
   EXPECT_ANY_THROW(ParseSessionSettings(nlohmann::json{{"degenerate_ratio", 1.0}}, {}, limits));
   EXPECT_ANY_THROW(ParseSessionSettings(nlohmann::json{{"degenerate_ratio", "high"}}, {}, limits));
 }

@@ -21,7 +21,7 @@ const agent = startAgent({
   spoolDir: join(dir, 'spool'),
   source: 'sim:office',
   name: 'simulated office',
-  extraArgs: ['--rate', values.rate, '--settings', '{"degenerate_ratio": 0.15}'],
+  extraArgs: ['--rate', values.rate],
 });
 const browser = await launchBrowser();
 try {

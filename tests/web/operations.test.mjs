@@ -189,7 +189,7 @@ describe('the main job, as an operator runs it', { skip }, () => {
 
   it('explores the world to the end and says so, with the area mapped', { timeout: 40 * 60 * 1000 }, async () => {
     const agent = startAgent({ port: server.port, spoolDir: join(dir, 'spool-explore'), source: `sim:${world}`, name: 'explore',
-      extraArgs: ['--rate', rate, '--settings', '{"degenerate_ratio": 0.15}'] });
+      extraArgs: ['--rate', rate] });
     agents.push(agent);
     const id = await waitFor('the exploring session', async () => {
       const { sessions } = await getJson(`${server.url}/api/sessions?status=active`);

@@ -32,9 +32,10 @@ struct SessionSettings {
   double linear_update = 0.25;     // metres of motion between filter updates
   double angular_update = 0.2;     // radians of turn between filter updates
   double resample_threshold = 0.5; // resample when N_eff < threshold * particles
-  // Scan matching's degeneracy guard (ScanMatchOptions::degenerate_ratio), 0: off. A short-range
-  // laser that sees neither end of a corridor needs it (0.15 for the simulated 8 m LMS-200).
-  double degenerate_ratio = 0.0;
+  // Scan matching's degeneracy guard (ScanMatchOptions::degenerate_ratio), 0: off. Along a corridor
+  // whose ends the laser does not see, the match keeps odometry instead of sliding (the core's
+  // default, RbpfOptions).
+  double degenerate_ratio = 0.15;
   // The session fails ("memory limit") rather than let its maps grow past this; the engine's own
   // accounting (particle grids, shared tiles once) plus what the map's extent costs to plan on.
   int memory_limit_mb = 1024;
