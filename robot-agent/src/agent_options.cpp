@@ -94,6 +94,11 @@ link:
   --session-name NAME
   --settings JSON             mapping settings of a new session, e.g. '{"particles": 40}'
                               (schema/ws/session_settings.schema.json; the server checks them)
+  --mode map|localize         map (default), or localize on a site's map (needs --site)
+  --site ID                   the site the session belongs to (its latest map, to localize on)
+  --initial-pose X,Y,THETA    localize: the robot's start on the site's map, m and rad (else
+                              global localization); --mode, --site and --initial-pose go into
+                              the settings, over the same keys of --settings
   --scan-format binary|json   (binary)
   --spool DIR                 spool directory (pslam-agent-spool)
   --spool-max-mb MB           spool size bound (256)
@@ -117,6 +122,9 @@ ParsedOptions ParseAgentOptions(const std::vector<std::string>& args) {
   AgentOptions o;
   if (const char* token = std::getenv("PSLAM_AGENT_TOKEN")) o.token = token;
   bool have_server = false, have_source = false;
+  nlohmann::json settings = nlohmann::json::object();
+  // --mode, --site and --initial-pose: merged into the settings once all options are read.
+  nlohmann::json localize = nlohmann::json::object();
   std::optional<bool> close_on_exit;
   using Setter = std::function<void(const std::string&)>;
   const std::map<std::string, Setter> with_value = {
@@ -139,9 +147,20 @@ ParsedOptions ParseAgentOptions(const std::vector<std::string>& args) {
       {"--robot-id", [&](const std::string& v) { o.robot_id = v; }},
       {"--session-name", [&](const std::string& v) { o.session_name = v; }},
       {"--settings", [&](const std::string& v) {
-         const nlohmann::json settings = nlohmann::json::parse(v, nullptr, false);
+         settings = nlohmann::json::parse(v, nullptr, false);
          if (!settings.is_object()) throw std::invalid_argument("--settings: a JSON object, got '" + v + "'");
-         o.session_settings_json = settings.dump();
+       }},
+      {"--mode", [&](const std::string& v) {
+         if (v != "map" && v != "localize") throw std::invalid_argument("--mode: map or localize, got '" + v + "'");
+         localize["mode"] = v;
+       }},
+      {"--site", [&](const std::string& v) {
+         if (v.empty()) throw std::invalid_argument("--site: a site id, e.g. site-0123456789abcdef");
+         localize["site"] = v;
+       }},
+      {"--initial-pose", [&](const std::string& v) {
+         const Pose2D p = ParsePose("--initial-pose", v);
+         localize["initial_pose"] = {{"x", p.x}, {"y", p.y}, {"theta", p.theta}};
        }},
       {"--scan-format", [&](const std::string& v) {
          if (v != "binary" && v != "json") throw std::invalid_argument("--scan-format: binary or json, got '" + v + "'");
@@ -184,6 +203,14 @@ ParsedOptions ParseAgentOptions(const std::vector<std::string>& args) {
     if (o.source != SourceKind::kPioneer && !o.laser_device.empty()) {
       throw std::invalid_argument("--laser is only for --source pioneer:...");
     }
+    settings.update(localize);
+    if (settings.value("mode", "map") == "localize" && !settings.contains("site")) {
+      throw std::invalid_argument("--mode localize needs --site ID (the site whose map to localize on)");
+    }
+    if (settings.contains("initial_pose") && settings.value("mode", "map") != "localize") {
+      throw std::invalid_argument("--initial-pose is for --mode localize");
+    }
+    if (!settings.empty()) o.session_settings_json = settings.dump();
   } catch (const std::invalid_argument& e) {
     result.error = e.what();
     return result;

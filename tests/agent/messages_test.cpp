@@ -98,6 +98,39 @@ TEST(MessagesTest, SettingsFromTheCommandLineGoIntoTheHello) {
   }
 }
 
+TEST(MessagesTest, LocalizeOptionsGoIntoTheHelloSettings) {
+  const std::vector<std::string> base = {"--server", "127.0.0.1:9", "--source", "sim:maze"};
+  const auto parse = [&](std::vector<std::string> extra) {
+    extra.insert(extra.begin(), base.begin(), base.end());
+    return ParseAgentOptions(extra);
+  };
+  const ParsedOptions parsed = parse({"--settings", R"({"particles": 40, "mode": "map"})", "--mode", "localize", "--site",
+                                      "site-0123456789abcdef", "--initial-pose", "1.5,-2,0.25"});
+  ASSERT_TRUE(parsed.options) << parsed.error;
+  HelloMessage hello;
+  hello.settings_json = parsed.options->session_settings_json;
+  const auto settings = nlohmann::json::parse(EncodeHello(hello))["settings"];
+  EXPECT_EQ(settings["mode"], "localize");  // the flag over the same key of --settings
+  EXPECT_EQ(settings["site"], "site-0123456789abcdef");
+  EXPECT_EQ(settings["particles"], 40);
+  EXPECT_EQ(settings["initial_pose"], (nlohmann::json{{"x", 1.5}, {"y", -2.0}, {"theta", 0.25}}));
+  EXPECT_TRUE(parse({}).options->session_settings_json.empty());  // no settings: none sent
+
+  // Refused at once, each naming what is wrong.
+  const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
+      {{"--mode", "extend"}, "--mode"},
+      {{"--mode", "localize"}, "--site"},
+      {{"--initial-pose", "1,2,0.5", "--site", "site-0123456789abcdef"}, "--initial-pose is for --mode localize"},
+      {{"--mode", "localize", "--site", "site-0123456789abcdef", "--initial-pose", "1,2"}, "--initial-pose"},
+      {{"--mode", "localize", "--site", "site-0123456789abcdef", "--initial-pose", "1,x,2"}, "--initial-pose"},
+  };
+  for (const auto& [extra, message] : refused) {
+    const ParsedOptions r = parse(extra);
+    EXPECT_FALSE(r.options) << message;
+    EXPECT_NE(r.error.find(message), std::string::npos) << r.error;
+  }
+}
+
 TEST(MessagesTest, ParsesServerMessages) {
   const auto w = std::get<WelcomeMessage>(ParseServerMessage(R"({"type": "welcome", "session_id": "s-1", "last_acked_seq": 7})"));
   EXPECT_EQ(w.session_id, "s-1");

@@ -148,6 +148,52 @@ TEST(RealServerTest, RefusedHelloEndsTheAgentWithItsOwnExitCode) {
   EXPECT_NE(agent.link_status().last_error.find("refused the hello"), std::string::npos) << agent.link_status().last_error;
 }
 
+// Runs the simulator agent made from command-line 'flags' until 'messages' of its messages are
+// acknowledged, then stops it (a sim agent closes its session); returns the session's id.
+std::string RunSimAgent(unsigned short port, const std::filesystem::path& spool, std::vector<std::string> flags,
+                        std::uint64_t messages) {
+  flags.insert(flags.end(), {"--server", "127.0.0.1:" + std::to_string(port), "--token", "agent-secret-1", "--source",
+                             "sim", "--spool", spool.string(), "--no-drive"});
+  const ParsedOptions parsed = ParseAgentOptions(flags);
+  if (!parsed.options) throw std::runtime_error(parsed.error);
+  Agent agent(*parsed.options, std::make_unique<SimSource>(SimSourceOptions{}));
+  std::atomic<bool> stop{false};
+  std::thread runner([&] { agent.Run(stop); });
+  const bool acked = WaitFor([&] { return agent.link_status().acked_wire_seq >= messages; }, 60.0);
+  stop = true;
+  runner.join();
+  if (!acked) throw std::runtime_error("the agent's scans were not acknowledged: " + agent.link_status().last_error);
+  return agent.link_status().session_id;
+}
+
+TEST(RealServerTest, LocalizeFlagsStartALocalizeSessionOnTheSiteFromTheGivenPose) {
+  TempDir dir;
+  ServerProcess server(dir.path() / "data", {"--agent-token", "agent-secret-1", "--viewer-token", "viewer-secret-1",
+                                             "--particles", "4", "--predict", "off"});
+  const unsigned short port = server.port();
+  const std::string site = testing::PostJson(port, "/api/sites", {{"name", "sim"}}, "agent-secret-1")["id"];
+  // The site's map: a first run of the same simulated robot, mapping into the site.
+  const std::string mapping = RunSimAgent(port, dir.path() / "spool-map", {"--site", site}, 30);
+  EXPECT_EQ(GetJson(port, "/api/sessions/" + mapping)["settings"]["site"], site);
+  WaitFor([&] { return GetJson(port, "/api/sessions/" + mapping)["status"] == "closed"; }, 20.0);
+  testing::PostJson(port, "/api/sites/" + site + "/maps", {{"session_id", mapping}}, "agent-secret-1");
+
+  // A session's map has the robot's first pose at its origin: the second run starts about there.
+  const std::string id = RunSimAgent(port, dir.path() / "spool-localize",
+                                     {"--mode", "localize", "--site", site, "--initial-pose", "0.05,-0.02,0.01"}, 20);
+  const auto settings = GetJson(port, "/api/sessions/" + id)["settings"];
+  EXPECT_EQ(settings["mode"], "localize");
+  EXPECT_EQ(settings["site"], site);
+  EXPECT_EQ(settings["map_version"], 1);
+  ASSERT_TRUE(settings["initial_pose"].is_object()) << settings;
+  EXPECT_DOUBLE_EQ(settings["initial_pose"]["x"].get<double>(), 0.05);
+  EXPECT_DOUBLE_EQ(settings["initial_pose"]["y"].get<double>(), -0.02);
+  EXPECT_NEAR(settings["initial_pose"]["theta"].get<double>(), 0.01, 1e-9);  // normalized by the server
+  const auto filter = GetJson(port, "/api/sessions/" + id + "/stats")["filter"];
+  EXPECT_EQ(filter["mode"], "localize");
+  EXPECT_TRUE(filter.contains("localization")) << filter;
+}
+
 TEST(RealServerTest, SessionLimitIsReportedPlainlyAndRetried) {
   TempDir dir;
   ServerProcess server(dir.path() / "data", {"--agent-token", "agent-secret-1", "--viewer-token", "viewer-secret-1",

@@ -1,5 +1,5 @@
 #pragma once
-// GET of a JSON resource from a pslam-server on 127.0.0.1, for tests against the real server.
+// GET and POST of JSON resources on a pslam-server on 127.0.0.1, for tests against the real server.
 #include <boost/asio.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
@@ -24,6 +24,30 @@ inline nlohmann::json GetJson(unsigned short port, const std::string& target, co
   http::response<http::string_body> res;
   http::read(stream, buffer, res);
   if (res.result_int() != 200) throw std::runtime_error(target + ": HTTP " + std::to_string(res.result_int()) + " " + res.body());
+  return nlohmann::json::parse(res.body());
+}
+
+// POSTs 'body' (JSON); throws unless the answer is 200 or 201.
+inline nlohmann::json PostJson(unsigned short port, const std::string& target, const nlohmann::json& body,
+                               const std::string& token = "") {
+  namespace beast = boost::beast;
+  namespace http = beast::http;
+  boost::asio::io_context ioc;
+  beast::tcp_stream stream(ioc);
+  stream.connect(boost::asio::ip::tcp::endpoint(boost::asio::ip::make_address("127.0.0.1"), port));
+  http::request<http::string_body> req{http::verb::post, target, 11};
+  req.set(http::field::host, "127.0.0.1");
+  req.set(http::field::content_type, "application/json");
+  if (!token.empty()) req.set(http::field::authorization, "Bearer " + token);
+  req.body() = body.dump();
+  req.prepare_payload();
+  http::write(stream, req);
+  beast::flat_buffer buffer;
+  http::response<http::string_body> res;
+  http::read(stream, buffer, res);
+  if (res.result_int() != 200 && res.result_int() != 201) {
+    throw std::runtime_error(target + ": HTTP " + std::to_string(res.result_int()) + " " + res.body());
+  }
   return nlohmann::json::parse(res.body());
 }
 
