@@ -309,6 +309,7 @@ export class SessionView {
     this.element.dataset.connection = c.connectionState;
     this.element.dataset.status = c.status;
     const last = c.errors[c.errors.length - 1];
+    delete this.notice.dataset.pose;
     if (c.connectionState === 'reconnecting' || c.connectionState === 'failed') {
       this.notice.hidden = false;
       this.notice.textContent = c.connectionState === 'failed' ? `Live view refused: ${c.connectionDetail}` : `Connection lost: ${c.connectionDetail}`;
