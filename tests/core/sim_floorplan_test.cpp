@@ -15,38 +15,12 @@
 #include "pslam/explore/distance_transform.hpp"
 #include "pslam/explore/path_planner.hpp"
 #include "pslam/sim/diff_drive.hpp"
+#include "pslam/sim/flood_fill.hpp"
 #include "pslam/sim/floorplan.hpp"
 #include "pslam/sim/world_file.hpp"
 
 namespace pslam {
 namespace {
-
-std::size_t Index(const World& w, const Eigen::Vector2i& c) {
-  return static_cast<std::size_t>(c.y() - w.bounds().min.y()) * static_cast<std::size_t>(w.bounds().width()) +
-         static_cast<std::size_t>(c.x() - w.bounds().min.x());
-}
-
-// Cells reachable from 'from' through 4-neighbours for which 'passable' holds.
-template <typename Passable>
-std::vector<bool> Flood(const World& w, const Eigen::Vector2d& from, Passable&& passable) {
-  std::vector<bool> seen(static_cast<std::size_t>(w.bounds().width()) * static_cast<std::size_t>(w.bounds().height()));
-  std::vector<Eigen::Vector2i> stack;
-  const auto visit = [&](const Eigen::Vector2i& c) {
-    if (!w.Contains(c) || seen[Index(w, c)] || !passable(c)) return;
-    seen[Index(w, c)] = true;
-    stack.push_back(c);
-  };
-  visit(w.WorldToCell(from));
-  while (!stack.empty()) {
-    const Eigen::Vector2i c = stack.back();
-    stack.pop_back();
-    for (const Eigen::Vector2i& d : {Eigen::Vector2i(1, 0), Eigen::Vector2i(-1, 0), Eigen::Vector2i(0, 1),
-                                    Eigen::Vector2i(0, -1)}) {
-      visit(c + d);
-    }
-  }
-  return seen;
-}
 
 // The planner's footprint: the robot's radius plus its inflation margin.
 double InflatedRadius() {
@@ -88,23 +62,24 @@ TEST(SimFloorPlanTest, EveryFamilyIsInSizeConnectedAndPassable) {
       EXPECT_TRUE(w.IsDiscFree(plan.start.translation(), DiffDriveOptions{}.robot_radius));
 
       // Free space in one piece: no pocket the robot could see into but never count.
-      const std::vector<bool> free = Flood(w, plan.start.translation(), [&](const Eigen::Vector2i& c) { return w.IsFree(c); });
+      const Eigen::Vector2i start = w.WorldToCell(plan.start.translation());
+      const std::vector<bool> free = FloodFill4(w, start, [&](const Eigen::Vector2i& c) { return w.IsFree(c); });
       EXPECT_EQ(static_cast<std::size_t>(std::count(free.begin(), free.end(), true)), w.Count(WorldCell::kFree));
 
       // Where the inflated footprint fits, and which of those cells the robot reaches from the start.
       const int width = w.bounds().width(), height = w.bounds().height();
       std::vector<bool> blocked(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
       for (int y = 0; y < height; ++y) {
-        for (int x = 0; x < width; ++x) blocked[Index(w, w.bounds().min + Eigen::Vector2i(x, y))] = !w.IsFree(w.bounds().min + Eigen::Vector2i(x, y));
+        for (int x = 0; x < width; ++x) blocked[BoundsIndex(w, w.bounds().min + Eigen::Vector2i(x, y))] = !w.IsFree(w.bounds().min + Eigen::Vector2i(x, y));
       }
       const std::vector<float> d2 = SquaredDistanceTransform(blocked, width, height);
-      const auto fits = [&](const Eigen::Vector2i& c) { return d2[Index(w, c)] > radius_cells * radius_cells; };
-      const std::vector<bool> reach = Flood(w, plan.start.translation(), fits);
+      const auto fits = [&](const Eigen::Vector2i& c) { return d2[BoundsIndex(w, c)] > radius_cells * radius_cells; };
+      const std::vector<bool> reach = FloodFill4(w, start, fits);
       ASSERT_FALSE(plan.places.empty());
       int unreachable = 0;
       for (const Eigen::Vector2d& p : plan.places) {
         const Eigen::Vector2i c = w.WorldToCell(p);
-        if (!w.Contains(c) || !reach[Index(w, c)]) {
+        if (!w.Contains(c) || !reach[BoundsIndex(w, c)]) {
           ++unreachable;
           ADD_FAILURE() << "place (" << p.x() << ", " << p.y() << ") not reachable by the inflated footprint";
           if (unreachable > 3) break;

@@ -5,6 +5,8 @@
 //   PSLAM_REGENERATE_WORLDS=1 core_tests --gtest_filter='SimWorldsTest.CommittedFilesMatchTheGenerator'
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -13,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "pslam/sim/flood_fill.hpp"
 #include "pslam/sim/shipped_worlds.hpp"
 #include "pslam/sim/world.hpp"
 #include "pslam/sim/world_file.hpp"
@@ -46,34 +49,14 @@ struct Reachable {
   std::size_t count = 0;
   bool Has(const Eigen::Vector2d& p) const {
     const Eigen::Vector2i c = world->WorldToCell(p);
-    return world->Contains(c) && seen[Index(c)];
-  }
-  std::size_t Index(const Eigen::Vector2i& c) const {
-    const CellBox& b = world->bounds();
-    return static_cast<std::size_t>(c.y() - b.min.y()) * static_cast<std::size_t>(b.width()) +
-           static_cast<std::size_t>(c.x() - b.min.x());
+    return world->Contains(c) && seen[BoundsIndex(*world, c)];
   }
 };
 
 Reachable FreeReachable(const World& world, const Eigen::Vector2d& from) {
-  const CellBox& b = world.bounds();
-  Reachable r{&world, std::vector<bool>(static_cast<std::size_t>(b.width()) * static_cast<std::size_t>(b.height()))};
-  std::vector<Eigen::Vector2i> stack;
-  const auto visit = [&](const Eigen::Vector2i& c) {
-    if (!world.IsFree(c) || r.seen[r.Index(c)]) return;  // IsFree is false outside the bounds
-    r.seen[r.Index(c)] = true;
-    ++r.count;
-    stack.push_back(c);
-  };
-  visit(world.WorldToCell(from));
-  while (!stack.empty()) {
-    const Eigen::Vector2i c = stack.back();
-    stack.pop_back();
-    for (const Eigen::Vector2i& d : {Eigen::Vector2i(1, 0), Eigen::Vector2i(-1, 0), Eigen::Vector2i(0, 1),
-                                    Eigen::Vector2i(0, -1)}) {
-      visit(c + d);
-    }
-  }
+  const auto free = [&world](const Eigen::Vector2i& c) { return world.IsFree(c); };
+  Reachable r{&world, FloodFill4(world, world.WorldToCell(from), free)};
+  r.count = static_cast<std::size_t>(std::count(r.seen.begin(), r.seen.end(), true));
   return r;
 }
 

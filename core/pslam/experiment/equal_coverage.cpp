@@ -5,25 +5,18 @@
 #include <limits>
 
 #include "pslam/experiment/map_similarity.hpp"
+#include "pslam/sim/flood_fill.hpp"
 
 namespace pslam {
 
 OccupancyGrid ReachableFreeCells(const World& world, const Eigen::Vector2d& start) {
+  const std::vector<bool> reached =
+      FloodFill4(world, world.WorldToCell(start), [&world](const Eigen::Vector2i& c) { return world.IsFree(c); });
   const CellBox& b = world.bounds();
   World reachable(world.resolution(), b, WorldCell::kUnknown);
-  std::vector<Eigen::Vector2i> stack;
-  const auto visit = [&](const Eigen::Vector2i& c) {
-    if (!world.IsFree(c) || reachable.IsFree(c)) return;  // IsFree is false outside the bounds
-    reachable.Set(c, WorldCell::kFree);
-    stack.push_back(c);
-  };
-  visit(world.WorldToCell(start));
-  while (!stack.empty()) {
-    const Eigen::Vector2i c = stack.back();
-    stack.pop_back();
-    for (const Eigen::Vector2i& d : {Eigen::Vector2i(1, 0), Eigen::Vector2i(-1, 0), Eigen::Vector2i(0, 1),
-                                    Eigen::Vector2i(0, -1)}) {
-      visit(c + d);
+  for (int y = b.min.y(); y < b.min.y() + b.height(); ++y) {
+    for (int x = b.min.x(); x < b.min.x() + b.width(); ++x) {
+      if (reached[BoundsIndex(world, {x, y})]) reachable.Set({x, y}, WorldCell::kFree);
     }
   }
   return reachable.ToGrid();
