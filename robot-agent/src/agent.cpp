@@ -51,6 +51,7 @@ Agent::Agent(AgentOptions options, std::unique_ptr<ScanSource> source)
   ServerLinkOptions link;
   link.host = options_.server_host;
   link.port = options_.server_port;
+  link.other_servers = options_.other_servers;
   link.token = options_.token;
   link.binary_scans = options_.binary_scans;
   link.session_file = std::filesystem::path(options_.spool_dir) / "session.json";

@@ -48,7 +48,19 @@ void ParseSource(AgentOptions& o, const std::string& value) {
   o.source_target = target;
 }
 
-void ParseServer(AgentOptions& o, const std::string& value) {
+void ParseServer(AgentOptions& o, const std::string& list) {
+  // HOST:PORT, or the nodes of a fleet: HOST:PORT,HOST:PORT,... (the first is tried first).
+  std::stringstream in(list);
+  std::string value;
+  std::vector<std::string> servers;
+  while (std::getline(in, value, ',')) servers.push_back(value);
+  if (servers.empty()) servers.push_back(list);
+  for (std::size_t i = 1; i < servers.size(); ++i) {
+    AgentOptions probe;
+    ParseServer(probe, servers[i]);
+    o.other_servers.push_back(servers[i]);
+  }
+  value = servers.front();
   const auto colon = value.rfind(':');
   if (colon == std::string::npos || colon == 0 || colon + 1 == value.size()) {
     throw std::invalid_argument("--server: expected HOST:PORT, got '" + value + "'");
@@ -70,7 +82,7 @@ Pose2D ParsePose(const std::string& key, const std::string& value) {
 }  // namespace
 
 std::string AgentUsage() {
-  return R"(usage: pslam-agent --server HOST:PORT [--token T] --source SOURCE [options]
+  return R"(usage: pslam-agent --server HOST:PORT[,HOST:PORT...] [--token T] --source SOURCE [options]
 
 Streams odometry and laser scans to a pslam-server ingest WebSocket, through an on-disk spool that
 survives link drops and restarts, and follows the exploration path the server sends.

@@ -20,6 +20,7 @@ struct AgentOptions {
   // Link.
   std::string server_host;
   std::string server_port;
+  std::vector<std::string> other_servers;  // further nodes of a fleet, HOST:PORT
   std::string token;  // --token, else $PSLAM_AGENT_TOKEN
   std::string robot_id = "pioneer-1";
   std::string session_name;

@@ -51,7 +51,7 @@ Result<std::unique_ptr<App>> App::Create(ServerOptions options) {
       });
   app->api_ = std::make_unique<ApiContext>(ApiContext{*app->mapping_, *app->replay_, *app->sites_, std::chrono::steady_clock::now(),
                                                       [context] { return context->hub.viewers(); },
-                                                      [context] { return context->agents.load(); }});
+                                                      [context] { return context->agents.load(); }, nullptr, ""});
   Router& router = app->context_->router;
   AddSystemRoutes(router, *app->api_);
   AddSessionRoutes(router, *app->api_);
@@ -59,6 +59,7 @@ Result<std::unique_ptr<App>> App::Create(ServerOptions options) {
   AddHypothesisRoutes(router, *app->api_);
   AddReplayRoutes(router, *app->api_);
   AddSiteRoutes(router, *app->api_);
+  AddClusterRoutes(router, *app->api_);
   router.SetRefusalLog([context](const ApiRequest& req, int status) {
     context->LogRefusal(req.method, req.path, req.remote, status);
   });
@@ -69,7 +70,30 @@ Result<std::unique_ptr<App>> App::Create(ServerOptions options) {
   auto listener = Listener::Create(app->ioc_, tcp::endpoint(address, o.port), app->context_);
   if (!listener) return Error{listener.error()};
   app->listener_ = listener.value();
+  const auto bound = app->listener_->local_endpoint();
+  app->api_->address = bound.address().to_string() + ":" + std::to_string(bound.port());
 
+  if (o.node_id) {
+    ClusterOptions cluster{*o.node_id, o.advertise.value_or(app->api_->address), o.lease_seconds};
+    MappingService* mapping = app->mapping_.get();
+    ClusterCoordinator::Hooks hooks;
+    hooks.load = [mapping, context] {
+      return NodeLoad{static_cast<std::int64_t>(mapping->running_sessions()),
+                      static_cast<std::int64_t>(mapping->options().max_running_sessions),
+                      static_cast<std::int64_t>(context->agents.load()),
+                      static_cast<std::int64_t>(context->hub.viewers())};
+    };
+    hooks.lost = [mapping](const std::string& id) { mapping->Abandon(id); };
+    hooks.adopt = [mapping](const std::string& id, std::int64_t epoch) { mapping->Adopt(id, epoch); };
+    // Nothing runs yet, so the first takeover check (after one tick) finds this node idle.
+    auto coordinator = ClusterCoordinator::Start(cluster, *o.postgres_url, std::move(hooks));
+    if (!coordinator) return Error{coordinator.error()};
+    app->cluster_ = std::move(coordinator.value());
+    app->mapping_->SetCluster(app->cluster_.get());
+    app->api_->cluster = app->cluster_.get();
+    std::cout << "fleet node " << cluster.node_id << " at " << cluster.address << ", lease " << cluster.lease_seconds
+              << " s" << std::endl;
+  }
   try {
     app->mapping_->Recover();
   } catch (const std::exception& e) {
@@ -100,11 +124,13 @@ int App::Run() {
 }
 
 void App::Shutdown() {
+  if (cluster_) cluster_->Stop();  // no more takeovers; the leases hold until Leave or expiry
   listener_->Stop();
   context_->CloseAll();
   replay_->Shutdown();
   mapping_->Shutdown();  // engines stop after their current input and checkpoint
   writer_->Stop();       // commits what is queued, folds the WAL into the database
+  if (cluster_) cluster_->Leave();  // the other nodes take the sessions over now
   // Give the close handshakes a moment to finish before the io threads stop.
   for (int i = 0; i < 20 && context_->websockets() > 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
 }

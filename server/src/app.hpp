@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "api/handlers.hpp"
+#include "cluster/cluster_coordinator.hpp"
 #include "common/result.hpp"
 #include "config/server_options.hpp"
 #include "net/beast.hpp"
@@ -35,6 +36,7 @@ class App {
   ServerOptions options_;
   std::unique_ptr<StorageWriter> writer_;
   std::unique_ptr<ReadPool> reads_;
+  std::unique_ptr<ClusterCoordinator> cluster_;  // a fleet node; outlives the sessions' writes
   std::unique_ptr<MappingService> mapping_;
   std::unique_ptr<ReplayService> replay_;
   std::unique_ptr<SiteService> sites_;

@@ -97,6 +97,7 @@ std::string EncodeHello(const HelloMessage& hello) {
         {"offset", {{"x", hello.laser.offset.x}, {"y", hello.laser.offset.y}, {"theta", hello.laser.offset.theta}}}}}};
   if (!hello.session_name.empty()) j["session_name"] = hello.session_name;
   if (!hello.settings_json.empty()) j["settings"] = nlohmann::json::parse(hello.settings_json);
+  if (hello.redirected) j["redirected"] = true;
   return j.dump();
 }
 
@@ -162,6 +163,7 @@ ServerMessage ParseServerMessage(std::string_view text) {
       return WelcomeMessage{j.at("session_id").get<std::string>(), j.value("last_acked_seq", std::uint64_t{0})};
     }
     if (type == "error") return ErrorMessage{j.value("code", std::string()), j.value("message", std::string())};
+    if (type == "redirect") return RedirectMessage{j.at("address").get<std::string>()};
     if (type == "target") {
       TargetMessage t;
       t.target_x = j.at("target").at("x").get<double>();

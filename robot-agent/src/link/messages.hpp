@@ -39,6 +39,7 @@ struct HelloMessage {
   std::string session_name;     // omitted when empty
   std::string settings_json;    // a JSON object, omitted when empty
   LaserDescription laser;
+  bool redirected = false;      // a fleet node sent us here: a new session is to stay here
 };
 
 std::string EncodeHello(const HelloMessage& hello);
@@ -67,10 +68,15 @@ struct ErrorMessage {
   std::string code;
   std::string message;
 };
+// Another node of the fleet runs (or is to run) the session: reconnect to 'address' (HOST:PORT).
+struct RedirectMessage {
+  std::string address;
+};
 struct UnknownMessage {
   std::string description;  // why it could not be understood
 };
-using ServerMessage = std::variant<WelcomeMessage, AckMessage, TargetMessage, ErrorMessage, UnknownMessage>;
+using ServerMessage =
+    std::variant<WelcomeMessage, AckMessage, TargetMessage, ErrorMessage, RedirectMessage, UnknownMessage>;
 
 ServerMessage ParseServerMessage(std::string_view text);
 

@@ -53,6 +53,10 @@ class ServerLink::Impl {
   Impl(ServerLinkOptions options, Spool& spool, HelloMessage hello)
       : options_(std::move(options)), spool_(spool), hello_(std::move(hello)), resolver_(ioc_), timer_(ioc_) {
     backoff_s_ = options_.backoff_initial_s;
+    servers_.push_back(options_.host + ":" + options_.port);
+    for (const auto& other : options_.other_servers) {
+      if (other.rfind(':') != std::string::npos) servers_.push_back(other);
+    }
     if (!options_.session_file.empty()) {
       if (const auto state = LoadSessionState(options_.session_file)) {
         session_id_ = state->session_id;
@@ -227,7 +231,33 @@ class ServerLink::Impl {
       return;
     }
     if (const auto* error = std::get_if<ErrorMessage>(&message)) return OnServerError(conn, *error);
+    if (const auto* redirect = std::get_if<RedirectMessage>(&message)) return OnRedirect(conn, *redirect);
     PSLAM_LOG(kWarning) << std::get<UnknownMessage>(message).description;
+  }
+
+  void OnRedirect(const ConnectionPtr& conn, const RedirectMessage& redirect) {
+    const auto colon = redirect.address.rfind(':');
+    if (conn->welcomed || colon == std::string::npos || colon == 0 || colon + 1 == redirect.address.size()) {
+      PSLAM_LOG(kWarning) << "ignoring a redirect to '" << redirect.address << "'";
+      return;
+    }
+    PSLAM_LOG(kInfo) << "redirected from " << options_.host << ":" << options_.port << " to " << redirect.address;
+    if (std::find(servers_.begin(), servers_.end(), redirect.address) == servers_.end()) {
+      servers_.push_back(redirect.address);
+    }
+    UseServer(redirect.address);
+    conn->refusal_reported = true;
+    // Straight to the node named, once; a chain of redirects backs off like any failure.
+    hello_.redirected = true;
+    if (++redirects_ <= 2) backoff_s_ = 0.0;
+    Fail(conn, "redirected to " + redirect.address, {});
+  }
+
+  void UseServer(const std::string& address) {
+    const auto colon = address.rfind(':');
+    options_.host = address.substr(0, colon);
+    options_.port = address.substr(colon + 1);
+    current_server_ = static_cast<std::size_t>(std::find(servers_.begin(), servers_.end(), address) - servers_.begin());
   }
 
   void OnWelcome(const ConnectionPtr& conn, const WelcomeMessage& welcome) {
@@ -251,6 +281,8 @@ class ServerLink::Impl {
     next_send_ = spool_.acked_seq() + 1;
     paused_ = false;
     conn->welcomed = true;
+    hello_.redirected = false;
+    redirects_ = 0;
     last_refusal_.clear();
     backoff_s_ = options_.backoff_initial_s;
     const std::uint64_t backlog = spool_.next_seq() - next_send_;
@@ -278,7 +310,8 @@ class ServerLink::Impl {
                     "server session " + session_id_ + " failed: " + error.message +
                         " (engine_failed); its events say why; not resending into it");
     }
-    if (!conn->welcomed && (error.code == "overloaded" || error.code == "storage_error" || error.code == "hello_timeout")) {
+    if (!conn->welcomed && (error.code == "overloaded" || error.code == "storage_error" ||
+                            error.code == "hello_timeout" || error.code == "session_moving")) {
       // Turned away for now: the server closes the link next and we retry.
       conn->refusal_reported = true;
       return ReportRefusal("server refused: " + error.message + " (" + error.code + "); retrying");
@@ -374,6 +407,11 @@ class ServerLink::Impl {
                         << backoff_s_ << " s";
     }
     if (stopping_) return;
+    // A node that cannot be reached: the next one of the fleet, if we know others.
+    if (!was_streaming && !conn->refusal_reported && servers_.size() > 1) {
+      current_server_ = (current_server_ + 1) % servers_.size();
+      UseServer(servers_[current_server_]);
+    }
     timer_.expires_after(Seconds(backoff_s_));
     timer_.async_wait([this](beast::error_code ec) {
       if (!ec) Connect();
@@ -420,6 +458,9 @@ class ServerLink::Impl {
   bool paused_ = false;
   bool stopping_ = false;
   std::string last_refusal_;
+  std::vector<std::string> servers_;  // HOST:PORT of every node we know, the first given first
+  std::size_t current_server_ = 0;
+  int redirects_ = 0;                  // since the last welcome
 
   std::atomic<double> last_contact_{0.0};
   mutable std::mutex mutex_;  // guards status_, target_, refusal_

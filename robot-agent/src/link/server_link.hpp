@@ -3,7 +3,8 @@
 // thread and only ever reads the spool: hello -> welcome -> stream every unacknowledged record in
 // seq order -> drop records as cumulative acks arrive. Network loss is normal: on any failure it
 // reconnects with capped exponential back-off, resumes its session and resends from the server's
-// last_acked_seq. Refusals are reported plainly: a transient one (the server is full) is retried,
+// last_acked_seq. A fleet node may redirect it to the node that runs its session; a node that cannot
+// be reached is followed by the next one it knows. Refusals are reported plainly: a transient one (the server is full) is retried,
 // a permanent one (token refused, hello refused, the session failed) stops the link.
 #include <cstddef>
 #include <cstdint>
@@ -11,6 +12,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "link/messages.hpp"
 #include "link/spool.hpp"
@@ -20,6 +22,8 @@ namespace pslam::agent {
 struct ServerLinkOptions {
   std::string host;
   std::string port;
+  // Further nodes of a fleet (HOST:PORT), tried in turn while the current one cannot be reached.
+  std::vector<std::string> other_servers;
   std::string token;                  // sent as "Authorization: Bearer <token>"
   std::string path = "/api/ingest";
   bool binary_scans = true;           // scans as binary frames (48 + 4n bytes) rather than JSON

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "api/router.hpp"
+#include "cluster/cluster_coordinator.hpp"
 #include "service/mapping_service.hpp"
 #include "service/replay_service.hpp"
 #include "service/site_service.hpp"
@@ -19,6 +20,8 @@ struct ApiContext {
   std::chrono::steady_clock::time_point started;
   std::function<std::size_t()> viewer_count;
   std::function<std::size_t()> agent_count;
+  ClusterCoordinator* cluster = nullptr;  // a fleet node; null for a single server
+  std::string address;                    // HOST:PORT where this server listens (or is advertised)
 };
 
 void AddSystemRoutes(Router& router, ApiContext& context);
@@ -27,6 +30,7 @@ void AddMapRoutes(Router& router, ApiContext& context);
 void AddHypothesisRoutes(Router& router, ApiContext& context);
 void AddReplayRoutes(Router& router, ApiContext& context);
 void AddSiteRoutes(Router& router, ApiContext& context);
+void AddClusterRoutes(Router& router, ApiContext& context);
 
 // Parses a request body as a JSON object; throws ApiError 400 with the parser's complaint.
 nlohmann::json ParseJsonBody(const ApiRequest& request);

@@ -66,7 +66,9 @@ ApiResponse Router::Handle(ApiRequest request) const {
     try {
       return route.handler(request);
     } catch (const ApiError& e) {
-      return ErrorResponse(e.status(), e.code(), e.what());
+      ApiResponse r = ErrorResponse(e.status(), e.code(), e.what());
+      if (!e.address().empty()) r.headers.emplace_back("Location", "http://" + e.address() + request.target);
+      return r;
     } catch (const nlohmann::json::exception& e) {
       return ErrorResponse(400, "bad_request", std::string("invalid JSON: ") + e.what());
     } catch (const std::exception& e) {

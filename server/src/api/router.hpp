@@ -16,6 +16,7 @@ namespace pslam::server {
 struct ApiRequest {
   std::string method;                          // "GET", "POST", ...
   std::string path;                            // decoded, without the query
+  std::string target;                          // as received, with the query (for redirects)
   std::map<std::string, std::string> query;    // decoded
   std::string body;
   Access access = Access::kNone;

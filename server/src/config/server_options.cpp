@@ -18,7 +18,7 @@ const char* const kUsage =
     "                    [--hello-timeout S] [--max-agent-sockets N] [--max-viewer-sockets N]\n"
     "                    [--max-sockets-per-token N]\n"
     "                    [--checkpoint-seconds S] [--sqlite-sync full|normal] [--on-restart resume|close]\n"
-    "                    [--postgres URL]\n"
+    "                    [--postgres URL [--node-id ID [--advertise HOST:PORT] [--lease-seconds S]]]\n"
     "                    [--session-memory-mb N]\n"
     "  Listens on 127.0.0.1:8080 by default; port 0 picks a free port. Beyond loopback, agent (write)\n"
     "  and viewer (read) tokens are required. Flags override the config file (JSON, see\n"
@@ -78,6 +78,14 @@ void ApplyConfigFile(const std::filesystem::path& path, ServerOptions& o) {
     if (kind != "postgres" && url) s.Fail("url", "is only for kind postgres");
     o.postgres_url = kind == "postgres" ? url : std::nullopt;
     s.RejectUnknown();
+  }
+  if (const nlohmann::json* cluster = f.Object("cluster")) {
+    JsonFields c(*cluster, "config.cluster");
+    o.node_id = c.String("node_id", 64);
+    if (!o.node_id) c.Fail("node_id", "is required");
+    if (auto v = c.String("advertise", 256)) o.advertise = *v;
+    o.lease_seconds = c.NumberOr("lease_seconds", o.lease_seconds);
+    c.RejectUnknown();
   }
   if (auto v = f.String("on_restart")) {
     if (*v != "resume" && *v != "close") f.Fail("on_restart", "must be resume or close");
@@ -159,6 +167,15 @@ Result<ParsedCommandLine> ParseCommandLine(const std::vector<std::string>& args,
           return Error{"--postgres must be a URL postgresql://USER@HOST:PORT/DATABASE"};
         }
         o.postgres_url = value;
+      } else if (flag == "--node-id") {
+        if (value.empty() || value.size() > 64) return Error{"--node-id must be 1 to 64 characters"};
+        o.node_id = value;
+      } else if (flag == "--advertise") {
+        ServerOptions probe;
+        if (!ParseListen(value, probe) || probe.port == 0) return Error{"--advertise must be HOST:PORT"};
+        o.advertise = value;
+      } else if (flag == "--lease-seconds") {
+        o.lease_seconds = static_cast<double>(integer(1, 3600));
       } else if (flag == "--web") {
         o.web_dir = std::filesystem::path(value);
       } else if (flag == "--replay-dir") {
@@ -235,6 +252,8 @@ StorageLocation StorageOf(const ServerOptions& o) {
 }
 
 std::optional<std::string> ValidateOptions(const ServerOptions& o) {
+  if (o.node_id && !o.postgres_url) return "--node-id makes a node of a fleet, which shares PostgreSQL: give --postgres URL";
+  if (!(o.lease_seconds >= 1 && o.lease_seconds <= 3600)) return "cluster.lease_seconds must be in [1, 3600]";
   if (!IsLoopback(o.host) && o.agent_tokens.empty()) {
     return "listening on " + o.host + " (beyond loopback) needs at least one --agent-token (and --viewer-token for viewers)";
   }

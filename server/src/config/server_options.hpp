@@ -21,6 +21,10 @@ struct ServerOptions {
   unsigned short port = 8080;                       // 0: any free port (printed at start)
   std::filesystem::path data_dir = "pslam-data";    // holds pslam.sqlite
   std::optional<std::string> postgres_url;          // storage on PostgreSQL instead of SQLite
+  // A node of a fleet on that PostgreSQL database (docs/fleet.md); set with --node-id.
+  std::optional<std::string> node_id;
+  std::optional<std::string> advertise;             // HOST:PORT for agents; default: the listening address
+  double lease_seconds = 5.0;
   std::optional<std::filesystem::path> web_dir;     // default: web/dist of the source tree, if found
   std::optional<std::filesystem::path> replay_dir;  // logs, relations and reference maps for replays
   int io_threads = 2;

@@ -137,6 +137,10 @@ void IngestSession::HandleHello(HelloMessage hello) {
 
 void IngestSession::OnOpened(MappingService::AgentOpen opened) {
   opening_ = false;
+  if (!opened.redirect.empty()) {
+    Send(RedirectMessage(opened.redirect));
+    return CloseAfterSending(websocket::close_code::normal, "redirect to " + opened.redirect);
+  }
   if (opened.error) {
     Send(ErrorMessage(opened.error->code, opened.error->message));
     if (hello_late_) return CloseUngreeted("no valid hello within " + std::to_string(context_->limits.hello_timeout.count()) + " s");

@@ -68,6 +68,7 @@ http::response<http::string_body> ServerContext::HandleHttp(const http::request<
     ApiRequest api;
     api.method = method;
     api.path = target->path;
+    api.target = std::string(req.target());
     api.query = target->query;
     api.body = req.body();
     api.remote = remote;

@@ -18,10 +18,18 @@ class ApiError : public std::runtime_error {
   static ApiError Conflict(const std::string& message) { return {409, "conflict", message}; }
   static ApiError Forbidden(const std::string& message) { return {403, "forbidden", message}; }
   static ApiError Unavailable(const std::string& message) { return {503, "unavailable", message}; }
+  // Another node of the fleet runs the session: the same request goes to 'address' (HOST:PORT).
+  static ApiError Elsewhere(const std::string& address, const std::string& message) {
+    ApiError e(307, "elsewhere", message);
+    e.address_ = address;
+    return e;
+  }
+  const std::string& address() const { return address_; }
 
  private:
   int status_;
   std::string code_;
+  std::string address_;
 };
 
 }  // namespace pslam::server

@@ -68,6 +68,7 @@ IngestMessage DecodeHello(const nlohmann::json& j, const SettingsLimits& limits)
   hello.session_name = f.String("session_name", 256).value_or("");
   if (const nlohmann::json* laser = f.Object("laser")) hello.laser = ParseLaserGeometry(*laser, limits, "hello.laser");
   if (const nlohmann::json* settings = f.Object("settings")) hello.settings = *settings;
+  hello.redirected = f.Bool("redirected").value_or(false);
   f.RejectUnknown();
   if (hello.session == "new" && !hello.laser) return Bad("hello: laser is required for a new session");
   return hello;
@@ -221,6 +222,10 @@ std::string EncodeBinaryScan(const InputRecord& scan) {
 
 std::string WelcomeMessage(const std::string& session_id, std::int64_t last_acked_seq) {
   return nlohmann::json{{"type", "welcome"}, {"session_id", session_id}, {"last_acked_seq", last_acked_seq}}.dump();
+}
+
+std::string RedirectMessage(const std::string& address) {
+  return nlohmann::json{{"type", "redirect"}, {"address", address}}.dump();
 }
 
 std::string AckMessage(std::int64_t seq) { return nlohmann::json{{"type", "ack"}, {"seq", seq}}.dump(); }

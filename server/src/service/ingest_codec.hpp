@@ -35,6 +35,7 @@ struct HelloMessage {
   std::string session_name;
   std::optional<LaserGeometry> laser;
   nlohmann::json settings;         // null when absent; parsed against the server defaults later
+  bool redirected = false;         // a fleet node sent the agent here: a new session stays here
 };
 
 struct IngestError {
@@ -58,6 +59,8 @@ std::string EncodeBinaryScan(const InputRecord& scan);
 std::string WelcomeMessage(const std::string& session_id, std::int64_t last_acked_seq);
 std::string AckMessage(std::int64_t seq);
 std::string ErrorMessage(const std::string& code, const std::string& message);
+// Another node of the fleet runs (or is to run) the session: the agent reconnects to 'address'.
+std::string RedirectMessage(const std::string& address);
 std::string TargetMessage(const ExplorationTarget& target);
 
 }  // namespace pslam::server

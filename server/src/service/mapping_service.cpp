@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "cluster/cluster_coordinator.hpp"
 #include "common/clock.hpp"
 #include "engine/tile_codec.hpp"
 #include "service/api_error.hpp"
@@ -57,6 +58,13 @@ std::size_t MappingService::running_sessions() const {
   return running_.size();
 }
 
+std::vector<std::string> MappingService::running_session_ids() const {
+  std::lock_guard lock(mutex_);
+  std::vector<std::string> ids;
+  for (const auto& [id, rt] : running_) ids.push_back(id);
+  return ids;
+}
+
 std::shared_ptr<const OccupancyGrid> MappingService::PrepareSite(SessionSettings& settings) {
   if (settings.site.empty()) return nullptr;
   try {
@@ -80,9 +88,11 @@ std::shared_ptr<const OccupancyGrid> MappingService::PrepareSite(SessionSettings
 
 std::shared_ptr<SessionRuntime> MappingService::Launch(const SessionRow& row, const SessionSettings& settings,
                                                        const LaserGeometry& laser, std::int64_t stored_seq,
-                                                       std::shared_ptr<const OccupancyGrid> fixed_map) {
+                                                       std::shared_ptr<const OccupancyGrid> fixed_map,
+                                                       std::int64_t lease_epoch) {
   auto rt = std::make_shared<SessionRuntime>();
   rt->id = row.id;
+  rt->lease_epoch = lease_epoch;
   rt->source = row.source;
   rt->settings = settings;
   rt->laser = laser;
@@ -94,7 +104,7 @@ std::shared_ptr<SessionRuntime> MappingService::Launch(const SessionRow& row, co
   sinks.live = [this, id](std::shared_ptr<const LiveFrame> frame) {
     if (live_sink_) live_sink_(id, std::move(frame));
   };
-  sinks.checkpoint = [this](Checkpoint c) { OnCheckpoint(std::move(c)); };
+  sinks.checkpoint = [this, lease_epoch](Checkpoint c) { OnCheckpoint(std::move(c), lease_epoch); };
   sinks.progress = [this, weak](std::int64_t processed) { OnProgress(weak, processed); };
   sinks.target = [weak](const ExplorationTarget& target) {
     const auto runtime = weak.lock();
@@ -186,6 +196,7 @@ void MappingService::OnEngineFailed(const std::string& id, const std::weak_ptr<S
     if (failures_.size() >= kRememberedFailures) failures_.erase(failures_.begin());
     failures_[id] = error;
   }
+  ReleaseLease(id);
   // The filter will never catch up: an agent paused for back-pressure would wait forever.
   if (agent) agent->Disconnect("engine_failed", "the session failed (" + error + "); it is closed as failed");
   if (end_sink_) end_sink_(id, "failed");
@@ -200,6 +211,7 @@ void MappingService::ReapRetired() {
 }
 
 void MappingService::Recover() {
+  if (cluster_) return;  // a fleet node takes sessions over under their leases
   std::vector<SessionRow> rows;
   {
     auto lease = reads_.Acquire();
@@ -207,59 +219,62 @@ void MappingService::Recover() {
       if (auto row = lease->repository().GetSession(id)) rows.push_back(std::move(*row));
     }
   }
-  for (const SessionRow& row : rows) {
-    // Start-ups in a row that died rebuilding the same stored inputs: a poison the filter cannot
-    // survive. (An agent still streaming in between stores more inputs, so kills do not add up.)
-    const std::int64_t attempts = row.rebuild_seq == row.last_seq ? row.rebuilds : 0;
-    if (attempts >= kMaxRebuilds) {
-      const std::string why = "quarantined: rebuilding its " + std::to_string(row.last_seq) + " stored inputs after a restart began " +
-                              std::to_string(attempts) + " times in a row and never completed (the server died during it)";
-      std::cerr << "session " << row.id << ": " << why << "\n";
-      writer_.Execute([&](SessionRepository& repo) {
-        repo.SetFailed(row.id, why, UnixNow());
-        repo.AddEvent(row.id, "engine_failed", nlohmann::json{{"error", why}}.dump(), UnixNow());
-      });
-      continue;
-    }
-    SessionSettings settings;
-    LaserGeometry laser;
-    std::shared_ptr<const OccupancyGrid> fixed_map;
-    try {
-      settings = ParseSessionSettings(ParseStoredJson(row.settings_json), options_.defaults, options_.limits);
-      laser = ParseLaserGeometry(ParseStoredJson(row.laser_json), options_.limits);
-      fixed_map = PrepareSite(settings);
-    } catch (const std::exception& e) {
-      std::cerr << "session " << row.id << ": cannot resume (" << e.what() << "), marking it failed\n";
-      writer_.Execute([&](SessionRepository& repo) {
-        repo.SetFailed(row.id, std::string("cannot resume: ") + e.what(), UnixNow());
-      });
-      continue;
-    }
-    // Counted before the rebuild starts, reset when it completes (or the server stops cleanly).
-    if (row.last_seq > 0) {
-      writer_.Execute([&](SessionRepository& repo) { repo.SetRebuilds(row.id, attempts + 1, row.last_seq); });
-    }
-    Launch(row, settings, laser, row.last_seq, std::move(fixed_map));
-    // A replay's feeder did not survive the restart: what it stored is mapped, then the session
-    // closes. An agent's session waits for the agent to reconnect, unless told otherwise.
-    const bool close = row.source == "replay" || !options_.resume_on_restart;
-    LogEvent(row.id, close ? "closing_after_restart" : "resumed_after_restart", {{"inputs", row.last_seq}});
-    std::cerr << "session " << row.id << ": rebuilding from " << row.last_seq << " stored inputs"
-              << (close ? ", then closing" : "") << "\n";
-    if (close) {
-      if (row.source == "replay") {
-        writer_.Submit([id = row.id](SessionRepository& repo) { repo.SetMetrics(id, R"({"interrupted":true})"); });
-      }
-      std::lock_guard lock(mutex_);
-      closers_.emplace_back([this, id = row.id] {
-        try {
-          CloseSession(id);
-        } catch (const std::exception& e) {
-          std::cerr << "session " << id << ": closing after restart failed: " << e.what() << "\n";
-        }
-      });
-    }
+  for (const SessionRow& row : rows) ResumeStored(row, 0);
+}
+
+std::shared_ptr<SessionRuntime> MappingService::ResumeStored(const SessionRow& row, std::int64_t lease_epoch) {
+  // Start-ups in a row that died rebuilding the same stored inputs: a poison the filter cannot
+  // survive. (An agent still streaming in between stores more inputs, so kills do not add up.)
+  const std::int64_t attempts = row.rebuild_seq == row.last_seq ? row.rebuilds : 0;
+  if (attempts >= kMaxRebuilds) {
+    const std::string why = "quarantined: rebuilding its " + std::to_string(row.last_seq) + " stored inputs after a restart began " +
+                            std::to_string(attempts) + " times in a row and never completed (the server died during it)";
+    std::cerr << "session " << row.id << ": " << why << "\n";
+    writer_.Execute([&](SessionRepository& repo) {
+      repo.SetFailed(row.id, why, UnixNow());
+      repo.AddEvent(row.id, "engine_failed", nlohmann::json{{"error", why}}.dump(), UnixNow());
+    });
+    return nullptr;
   }
+  SessionSettings settings;
+  LaserGeometry laser;
+  std::shared_ptr<const OccupancyGrid> fixed_map;
+  try {
+    settings = ParseSessionSettings(ParseStoredJson(row.settings_json), options_.defaults, options_.limits);
+    laser = ParseLaserGeometry(ParseStoredJson(row.laser_json), options_.limits);
+    fixed_map = PrepareSite(settings);
+  } catch (const std::exception& e) {
+    std::cerr << "session " << row.id << ": cannot resume (" << e.what() << "), marking it failed\n";
+    writer_.Execute([&](SessionRepository& repo) {
+      repo.SetFailed(row.id, std::string("cannot resume: ") + e.what(), UnixNow());
+    });
+    return nullptr;
+  }
+  // Counted before the rebuild starts, reset when it completes (or the server stops cleanly).
+  if (row.last_seq > 0) {
+    writer_.Execute([&](SessionRepository& repo) { repo.SetRebuilds(row.id, attempts + 1, row.last_seq); });
+  }
+  auto rt = Launch(row, settings, laser, row.last_seq, std::move(fixed_map), lease_epoch);
+  // A replay's feeder did not survive the restart: what it stored is mapped, then the session
+  // closes. An agent's session waits for the agent to reconnect, unless told otherwise.
+  const bool close = row.source == "replay" || !options_.resume_on_restart;
+  LogEvent(row.id, close ? "closing_after_restart" : "resumed_after_restart", {{"inputs", row.last_seq}});
+  std::cerr << "session " << row.id << ": rebuilding from " << row.last_seq << " stored inputs"
+            << (close ? ", then closing" : "") << "\n";
+  if (close) {
+    if (row.source == "replay") {
+      writer_.Submit([id = row.id](SessionRepository& repo) { repo.SetMetrics(id, R"({"interrupted":true})"); });
+    }
+    std::lock_guard lock(mutex_);
+    closers_.emplace_back([this, id = row.id] {
+      try {
+        CloseSession(id);
+      } catch (const std::exception& e) {
+        std::cerr << "session " << id << ": closing after restart failed: " << e.what() << "\n";
+      }
+    });
+  }
+  return rt;
 }
 
 void MappingService::Shutdown() {
@@ -295,42 +310,129 @@ void MappingService::Shutdown() {
 void MappingService::OpenForAgent(const HelloMessage& hello, const std::shared_ptr<AgentLink>& link,
                                   std::function<void(AgentOpen)> done) {
   if (hello.session != "new") {
-    const auto rt = Running(hello.session);
-    if (!rt) {
-      std::string why = " is not active";
-      {
-        std::lock_guard lock(mutex_);
-        if (const auto it = failures_.find(hello.session); it != failures_.end()) why = " has failed: " + it->second;
-      }
-      done({nullptr, 0, IngestError{"unknown_session", "session '" + hello.session.substr(0, 64) + "'" + why}});
-      return;
-    }
-    if (hello.laser && hello.laser->beams != rt->laser.beams) {
-      done({nullptr, 0, IngestError{"bad_message", "hello: the session's laser has " + std::to_string(rt->laser.beams) +
-                                                        " beams, not " + std::to_string(hello.laser->beams)}});
-      return;
-    }
-    std::shared_ptr<AgentLink> previous;
-    std::int64_t acked = 0;
-    {
-      std::lock_guard lock(rt->mutex);
-      if (rt->closing) {
-        const std::string why = rt->engine->failed() ? " has failed (its events say why)" : " is closing";
-        done({nullptr, 0, IngestError{"unknown_session", "session " + rt->id + why}});
-        return;
-      }
-      previous = rt->agent.lock();
-      rt->agent = link;
-      rt->agent_waiting = false;
-      acked = rt->last_committed;
-    }
-    if (previous && previous != link) previous->Disconnect("replaced", "a newer connection of the agent took the session");
-    LogEvent(rt->id, "agent_connected", {{"robot_id", hello.robot_id}, {"resumed", true}, {"last_acked_seq", acked}});
-    done({rt, acked, std::nullopt});
+    if (const auto rt = Running(hello.session)) return AttachAgent(rt, hello, link, done);
+    if (!cluster_) return done(AgentOpen::Failed(UnknownSession(hello.session)));
+    cluster_->Post([this, hello, link, done](ClusterCoordinator&) { ClaimForAgent(hello, link, done); });
     return;
   }
+  // A new session goes to the least loaded node, once: a redirected agent is placed where it went.
+  if (cluster_ && !hello.redirected) {
+    cluster_->Post([this, hello, link, done](ClusterCoordinator& cluster) {
+      const Placement placement = cluster.PlaceNew();
+      if (placement.kind == Placement::Kind::kElsewhere) return done(AgentOpen::Redirect(placement.address));
+      if (placement.kind == Placement::Kind::kUnavailable) {
+        return done(AgentOpen::Failed(IngestError{"overloaded", placement.reason}));
+      }
+      CreateForAgent(hello, link, done);
+    });
+    return;
+  }
+  CreateForAgent(hello, link, done);
+}
+
+IngestError MappingService::UnknownSession(const std::string& id) {
+  std::string why = " is not active";
+  {
+    std::lock_guard lock(mutex_);
+    if (const auto it = failures_.find(id); it != failures_.end()) why = " has failed: " + it->second;
+  }
+  return IngestError{"unknown_session", "session '" + id.substr(0, 64) + "'" + why};
+}
+
+void MappingService::AttachAgent(const std::shared_ptr<SessionRuntime>& rt, const HelloMessage& hello,
+                                 const std::shared_ptr<AgentLink>& link, const std::function<void(AgentOpen)>& done) {
+  if (hello.laser && hello.laser->beams != rt->laser.beams) {
+    done(AgentOpen::Failed(IngestError{"bad_message", "hello: the session's laser has " + std::to_string(rt->laser.beams) +
+                                                      " beams, not " + std::to_string(hello.laser->beams)}));
+    return;
+  }
+  std::shared_ptr<AgentLink> previous;
+  std::int64_t acked = 0;
+  {
+    std::lock_guard lock(rt->mutex);
+    if (rt->closing) {
+      const std::string why = rt->engine->failed() ? " has failed (its events say why)" : " is closing";
+      done(AgentOpen::Failed(IngestError{"unknown_session", "session " + rt->id + why}));
+      return;
+    }
+    previous = rt->agent.lock();
+    rt->agent = link;
+    rt->agent_waiting = false;
+    acked = rt->last_committed;
+  }
+  if (previous && previous != link) previous->Disconnect("replaced", "a newer connection of the agent took the session");
+  LogEvent(rt->id, "agent_connected", {{"robot_id", hello.robot_id}, {"resumed", true}, {"last_acked_seq", acked}});
+  done(AgentOpen::Opened(rt, acked));
+}
+
+void MappingService::ClaimForAgent(const HelloMessage& hello, const std::shared_ptr<AgentLink>& link,
+                                   std::function<void(AgentOpen)> done) {
+  try {
+    if (GetSession(hello.session).status != "active") return done(AgentOpen::Failed(UnknownSession(hello.session)));
+  } catch (const ApiError&) {
+    return done(AgentOpen::Failed(UnknownSession(hello.session)));
+  }
+  const Placement placement = cluster_->Claim(hello.session);
+  if (placement.kind == Placement::Kind::kElsewhere) return done(AgentOpen::Redirect(placement.address));
+  if (placement.kind == Placement::Kind::kUnavailable) {
+    return done(AgentOpen::Failed(IngestError{"session_moving", "session " + hello.session + ": " + placement.reason}));
+  }
+  auto rt = Running(hello.session);
+  if (!rt) {
+    // Read again under the lease: the inputs the previous owner stored are all in now.
+    const SessionRow row = GetSession(hello.session);
+    if (row.status == "active") rt = ResumeStored(row, placement.epoch);
+  }
+  if (!rt) {
+    ReleaseLease(hello.session);
+    return done(AgentOpen::Failed(UnknownSession(hello.session)));
+  }
+  AttachAgent(rt, hello, link, done);
+}
+
+void MappingService::Adopt(const std::string& id, std::int64_t lease_epoch) {
+  try {
+    const SessionRow row = GetSession(id);
+    if (row.status == "active" && !Running(id) && ResumeStored(row, lease_epoch)) return;
+  } catch (const std::exception& e) {
+    std::cerr << "session " << id << ": taking it over failed: " << e.what() << "\n";
+  }
+  if (!Running(id)) ReleaseLease(id);
+}
+
+void MappingService::Abandon(const std::string& id) {
+  const auto rt = TakeRunning(id);
+  if (!rt) return;
+  std::shared_ptr<AgentLink> agent;
+  {
+    std::lock_guard lock(rt->mutex);
+    rt->closing = true;
+    agent = rt->agent.lock();
+    rt->agent.reset();
+    rt->progress.notify_all();
+  }
+  // The agent reconnects and is sent to the new owner, which resends it every unacknowledged input.
+  if (agent) agent->Disconnect("moved", "another node runs the session now; reconnect");
+  rt->engine->Abort();  // no checkpoint: the new owner writes the session from here on
+  LogEvent(id, "lease_lost", {});
+  if (end_sink_) end_sink_(id, "moved");
+}
+
+void MappingService::ReleaseLease(const std::string& id) {
+  if (cluster_) cluster_->Released(id);
+}
+
+void MappingService::ThrowIfElsewhere(const std::string& id) {
+  if (!cluster_) return;
+  if (const auto address = cluster_->OwnerElsewhere(id)) {
+    throw ApiError::Elsewhere(*address, "session " + id + " runs on the node at " + *address);
+  }
+}
+
+void MappingService::CreateForAgent(const HelloMessage& hello, const std::shared_ptr<AgentLink>& link,
+                                    std::function<void(AgentOpen)> done) {
   if (running_sessions() >= options_.max_running_sessions) {
-    done({nullptr, 0, IngestError{"overloaded", "the server runs its maximum of sessions"}});
+    done(AgentOpen::Failed(IngestError{"overloaded", "the server runs its maximum of sessions"}));
     return;
   }
   SessionSettings settings;
@@ -339,7 +441,7 @@ void MappingService::OpenForAgent(const HelloMessage& hello, const std::shared_p
     settings = ParseSessionSettings(hello.settings, options_.defaults, options_.limits, "hello.settings");
     fixed_map = PrepareSite(settings);
   } catch (const ApiError& e) {
-    done({nullptr, 0, IngestError{"bad_message", e.what()}});
+    done(AgentOpen::Failed(IngestError{"bad_message", e.what()}));
     return;
   }
   SessionRow row;
@@ -351,25 +453,27 @@ void MappingService::OpenForAgent(const HelloMessage& hello, const std::shared_p
   row.laser_json = LaserGeometryToJson(*hello.laser).dump();
   row.settings_json = SessionSettingsToJson(settings).dump();
   const LaserGeometry laser = *hello.laser;
+  auto epoch = std::make_shared<std::int64_t>(0);
   const bool queued = writer_.Submit(
-      [row](SessionRepository& repo) {
+      [row, epoch, cluster = cluster_](SessionRepository& repo) {
         repo.CreateSession(row);
+        if (cluster) *epoch = cluster->AcquireIn(repo.database(), row.id);
         repo.AddEvent(row.id, "created", nlohmann::json{{"source", "agent"}, {"robot_id", row.robot_id}}.dump(),
                       row.created_at);
       },
-      [this, row, settings, laser, link, done, fixed_map](bool ok, const std::string& error) {
+      [this, row, settings, laser, link, done, fixed_map, epoch](bool ok, const std::string& error) {
         if (!ok) {
-          done({nullptr, 0, IngestError{"storage_error", "cannot create the session: " + error}});
+          done(AgentOpen::Failed(IngestError{"storage_error", "cannot create the session: " + error}));
           return;
         }
-        auto rt = Launch(row, settings, laser, 0, fixed_map);
+        auto rt = Launch(row, settings, laser, 0, fixed_map, *epoch);
         {
           std::lock_guard lock(rt->mutex);
           rt->agent = link;
         }
-        done({rt, 0, std::nullopt});
+        done(AgentOpen::Opened(rt, 0));
       });
-  if (!queued) done({nullptr, 0, IngestError{"overloaded", "the server is shutting down"}});
+  if (!queued) done(AgentOpen::Failed(IngestError{"overloaded", "the server is shutting down"}));
 }
 
 MappingService::AdmitResult MappingService::Admit(const std::shared_ptr<SessionRuntime>& rt, const AgentLink* link,
@@ -408,7 +512,10 @@ MappingService::AdmitResult MappingService::Admit(const std::shared_ptr<SessionR
   // Submitted under the runtime's lock, so inputs reach the writer in seq order even if a newer
   // connection of the agent takes over at this moment.
   const bool queued = writer_.Submit(
-      [id = rt->id, shared](SessionRepository& repo) { repo.InsertInput(id, *shared); },
+      [id = rt->id, shared, epoch = rt->lease_epoch, cluster = cluster_](SessionRepository& repo) {
+        if (cluster) cluster->CheckLeaseIn(repo.database(), id, epoch);
+        repo.InsertInput(id, *shared);
+      },
       [this, weak, seq, shared, received](bool ok, const std::string& error) {
         OnCommitted(weak, seq, ok, error, shared, received);
       });
@@ -489,10 +596,13 @@ void MappingService::Detach(const std::shared_ptr<SessionRuntime>& rt, const Age
   LogEvent(rt->id, "agent_disconnected", nlohmann::json::object());
 }
 
-void MappingService::OnCheckpoint(Checkpoint c) {
+void MappingService::OnCheckpoint(Checkpoint c, std::int64_t lease_epoch) {
   c.stats_json = EngineStatsToJson(c.stats).dump();
   const double now = UnixNow();
-  writer_.Submit([c = std::move(c), now](SessionRepository& repo) { repo.WriteCheckpoint(c, now); },
+  writer_.Submit([c = std::move(c), now, lease_epoch, cluster = cluster_](SessionRepository& repo) {
+                   if (cluster) cluster->CheckLeaseIn(repo.database(), c.session_id, lease_epoch);
+                   repo.WriteCheckpoint(c, now);
+                 },
                  [](bool ok, const std::string& error) {
                    if (!ok) std::cerr << "storage: checkpoint failed: " << error << "\n";
                  });
@@ -528,11 +638,13 @@ std::shared_ptr<SessionRuntime> MappingService::StartSession(SessionRow row, con
   row.created_at = row.updated_at = UnixNow();
   row.laser_json = LaserGeometryToJson(laser).dump();
   row.settings_json = SessionSettingsToJson(settings).dump();
-  writer_.Execute([&row](SessionRepository& repo) {
+  std::int64_t epoch = 0;
+  writer_.Execute([&](SessionRepository& repo) {
     repo.CreateSession(row);
+    if (cluster_) epoch = cluster_->AcquireIn(repo.database(), row.id);
     repo.AddEvent(row.id, "created", nlohmann::json{{"source", row.source}}.dump(), row.created_at);
   });
-  return Launch(row, settings, laser, 0, std::move(fixed_map));
+  return Launch(row, settings, laser, 0, std::move(fixed_map), epoch);
 }
 
 SessionRow MappingService::GetSession(const std::string& id) {
@@ -552,6 +664,7 @@ SessionRow MappingService::CloseSession(const std::string& id, const std::string
   if (!rt) {
     SessionRow row = GetSession(id);
     if (row.status != "active") return row;  // closing twice is not an error
+    ThrowIfElsewhere(id);
     writer_.Execute([&](SessionRepository& repo) { repo.SetStatus(id, status, UnixNow()); });
     return GetSession(id);
   }
@@ -576,6 +689,7 @@ SessionRow MappingService::CloseSession(const std::string& id, const std::string
     repo.AddEvent(id, "closed", nlohmann::json{{"status", status}}.dump(), UnixNow());
   });
   TakeRunning(id);
+  ReleaseLease(id);
   if (end_sink_) end_sink_(id, status);
   return GetSession(id);
 }
@@ -592,6 +706,9 @@ void MappingService::DeleteSession(const std::string& id) {
     }
     if (agent) agent->Disconnect("closed", "the session was deleted");
     rt->engine->Abort();
+    ReleaseLease(id);
+  } else {
+    ThrowIfElsewhere(id);
   }
   bool deleted = false;
   writer_.Execute([&](SessionRepository& repo) { deleted = repo.DeleteSession(id); });
@@ -602,6 +719,7 @@ void MappingService::DeleteSession(const std::string& id) {
 bool MappingService::SetVerifyPredicted(const std::string& id, bool verify) {
   const SessionRow row = GetSession(id);
   const auto rt = Running(id);
+  if (!rt) ThrowIfElsewhere(id);
   if (!rt) throw ApiError::Conflict("session " + id + " is " + row.status + ": it explores no more");
   if (row.source != "agent") throw ApiError::Conflict("session " + id + " has no robot to drive (source " + row.source + ")");
   if (rt->engine->verify_predicted() != verify) {
@@ -615,6 +733,7 @@ InitialPose MappingService::SetInitialPose(const std::string& id, const nlohmann
   const SessionRow row = GetSession(id);
   const InitialPose pose = ParseInitialPose(body, "initial_pose");
   const auto rt = Running(id);
+  if (!rt) ThrowIfElsewhere(id);
   if (!rt) throw ApiError::Conflict("session " + id + " is " + row.status + ": it localizes no more");
   if (rt->settings.mode != "localize") {
     throw ApiError::Conflict("session " + id + " maps (mode \"" + rt->settings.mode + "\"): only a localize session takes a pose");

@@ -28,6 +28,8 @@
 
 namespace pslam::server {
 
+class ClusterCoordinator;
+
 inline constexpr int kMaxRebuilds = 3;
 
 struct ServiceOptions {
@@ -58,6 +60,14 @@ class MappingService {
 
   // Where engines send live frames, and who hears that a session stopped running. Set before Recover.
   void SetLiveSinks(LiveSink live, EndSink ended);
+  // Makes this server a node of a fleet (docs/fleet.md): a session runs here only while the node
+  // holds its lease, and sessions left active are taken over by the coordinator, not by Recover.
+  // Set before Recover; 'cluster' must outlive the service's sessions.
+  void SetCluster(ClusterCoordinator* cluster) { cluster_ = cluster; }
+  // The coordinator's hooks (its thread): this node won the lease of a session nobody ran, or
+  // lost the lease of one it runs (the new owner rebuilds it; nothing is written here any more).
+  void Adopt(const std::string& id, std::int64_t lease_epoch);
+  void Abandon(const std::string& id);
   // At start-up: every session left active is rebuilt from its stored inputs and resumed (or,
   // with resume_on_restart off, closed once rebuilt). A session whose rebuild of the same stored
   // inputs began at kMaxRebuilds start-ups in a row without completing (it took the server down)
@@ -71,6 +81,24 @@ class MappingService {
     std::shared_ptr<SessionRuntime> runtime;
     std::int64_t last_acked_seq = 0;
     std::optional<IngestError> error;
+    std::string redirect;  // HOST:PORT of the node that runs (or is to run) the session
+
+    static AgentOpen Opened(std::shared_ptr<SessionRuntime> runtime, std::int64_t last_acked_seq) {
+      AgentOpen o;
+      o.runtime = std::move(runtime);
+      o.last_acked_seq = last_acked_seq;
+      return o;
+    }
+    static AgentOpen Failed(IngestError error) {
+      AgentOpen o;
+      o.error = std::move(error);
+      return o;
+    }
+    static AgentOpen Redirect(std::string address) {
+      AgentOpen o;
+      o.redirect = std::move(address);
+      return o;
+    }
   };
   // Creates or resumes the session named by 'hello' for 'link'. 'done' runs once the session is
   // durably created (on the storage thread) or at once for a resume or an error.
@@ -120,6 +148,7 @@ class MappingService {
 
   std::shared_ptr<SessionRuntime> Running(const std::string& id) const;
   std::size_t running_sessions() const;
+  std::vector<std::string> running_session_ids() const;
   const ServiceOptions& options() const { return options_; }
   StorageWriter& writer() { return writer_; }
   ReadPool& reads() { return reads_; }
@@ -127,17 +156,31 @@ class MappingService {
 
  private:
   std::string NewSessionId();
+  void CreateForAgent(const HelloMessage& hello, const std::shared_ptr<AgentLink>& link,
+                      std::function<void(AgentOpen)> done);
+  // A fleet node: the session of the hello is not running here; on the coordinator's thread.
+  void ClaimForAgent(const HelloMessage& hello, const std::shared_ptr<AgentLink>& link,
+                     std::function<void(AgentOpen)> done);
+  void AttachAgent(const std::shared_ptr<SessionRuntime>& rt, const HelloMessage& hello,
+                   const std::shared_ptr<AgentLink>& link, const std::function<void(AgentOpen)>& done);
+  IngestError UnknownSession(const std::string& id);
+  // Rebuilds a session left active (a restart, or a node that died) from its stored inputs and
+  // resumes it; null if it was quarantined or cannot be resumed (it is then marked failed).
+  std::shared_ptr<SessionRuntime> ResumeStored(const SessionRow& row, std::int64_t lease_epoch);
+  // A fleet node: throws ApiError 307 if another live node runs the session.
+  void ThrowIfElsewhere(const std::string& id);
+  void ReleaseLease(const std::string& id);
   // Checks the site a session names and, in localize mode, loads the site's map (its latest version
   // unless the settings name one; the settings then name the version loaded and take its
   // resolution). Throws ApiError 400 for a missing site or map.
   std::shared_ptr<const OccupancyGrid> PrepareSite(SessionSettings& settings);
   std::shared_ptr<SessionRuntime> Launch(const SessionRow& row, const SessionSettings& settings,
                                          const LaserGeometry& laser, std::int64_t stored_seq,
-                                         std::shared_ptr<const OccupancyGrid> fixed_map);
+                                         std::shared_ptr<const OccupancyGrid> fixed_map, std::int64_t lease_epoch = 0);
   void OnCommitted(const std::weak_ptr<SessionRuntime>& weak, std::int64_t seq, bool ok, const std::string& error,
                    const std::shared_ptr<InputRecord>& input, SteadyTime received);
   void OnProgress(const std::weak_ptr<SessionRuntime>& weak, std::int64_t processed);
-  void OnCheckpoint(Checkpoint checkpoint);
+  void OnCheckpoint(Checkpoint checkpoint, std::int64_t lease_epoch);
   std::shared_ptr<SessionRuntime> TakeRunning(const std::string& id);
   void OnEngineFailed(const std::string& id, const std::weak_ptr<SessionRuntime>& weak, const std::string& error);
   void ReapRetired();  // under mutex_
@@ -147,6 +190,7 @@ class MappingService {
   ReadPool& reads_;
   LiveSink live_sink_;
   EndSink end_sink_;
+  ClusterCoordinator* cluster_ = nullptr;
   RecentFailure engine_failures_;
 
   mutable std::mutex mutex_;

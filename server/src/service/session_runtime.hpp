@@ -27,6 +27,7 @@ struct SessionRuntime {
   SessionSettings settings;
   LaserGeometry laser;
   std::unique_ptr<SessionEngine> engine;
+  std::int64_t lease_epoch = 0;  // a fleet node: the lease it runs the session under (0: no fleet)
 
   std::mutex mutex;  // guards everything below
   std::int64_t last_received = 0;
