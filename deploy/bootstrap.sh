@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config curl ca-certificates python3
   libeigen3-dev nlohmann-json3-dev libsqlite3-dev sqlite3 zlib1g-dev libbz2-dev libpng-dev
-  libpq-dev postgresql redis-server  # a fleet's storage and live fan-out; tests start their own on loopback
+  libpq-dev postgresql redis-server libhiredis-dev  # a fleet's storage and live fan-out; tests start their own on loopback
   libboost-dev libboost-system-dev
   libopencv-dev libceres-dev
   libgtest-dev libgmock-dev libbenchmark-dev

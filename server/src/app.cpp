@@ -40,6 +40,10 @@ Result<std::unique_ptr<App>> App::Create(ServerOptions options) {
                                                   StaticFiles(o.web_dir), *app->mapping_, app->workers_,
                                                   app->ioc_.get_executor());
   ServerContext* context = app->context_.get();
+  if (o.redis_url) {
+    app->fanout_ = std::make_unique<LiveFanout>(ParseRedisUrl(*o.redis_url).value(), context->hub);
+    context->hub.SetRelay(app->fanout_.get());
+  }
   app->mapping_->SetLiveSinks(
       [context](const std::string& id, std::shared_ptr<const LiveFrame> frame) {
         context->hub.Publish(id, *frame);
@@ -130,6 +134,7 @@ void App::Shutdown() {
   replay_->Shutdown();
   mapping_->Shutdown();  // engines stop after their current input and checkpoint
   writer_->Stop();       // commits what is queued, folds the WAL into the database
+  if (fanout_) fanout_->Stop();  // after the engines: their sessions' ends go out
   if (cluster_) cluster_->Leave();  // the other nodes take the sessions over now
   // Give the close handshakes a moment to finish before the io threads stop.
   for (int i = 0; i < 20 && context_->websockets() > 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));

@@ -10,6 +10,7 @@
 #include "config/server_options.hpp"
 #include "net/beast.hpp"
 #include "net/listener.hpp"
+#include "net/live_fanout.hpp"
 #include "net/server_context.hpp"
 #include "service/mapping_service.hpp"
 #include "service/replay_service.hpp"
@@ -43,6 +44,7 @@ class App {
   net::io_context ioc_;
   net::thread_pool workers_;
   std::shared_ptr<ServerContext> context_;
+  std::unique_ptr<LiveFanout> fanout_;  // with --redis
   std::unique_ptr<ApiContext> api_;
   std::shared_ptr<Listener> listener_;
 };

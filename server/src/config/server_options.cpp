@@ -5,6 +5,7 @@
 #include <charconv>
 #include <fstream>
 
+#include "net/redis_connection.hpp"
 #include "service/api_error.hpp"
 #include "service/json_fields.hpp"
 
@@ -19,6 +20,7 @@ const char* const kUsage =
     "                    [--max-sockets-per-token N]\n"
     "                    [--checkpoint-seconds S] [--sqlite-sync full|normal] [--on-restart resume|close]\n"
     "                    [--postgres URL [--node-id ID [--advertise HOST:PORT] [--lease-seconds S]]]\n"
+    "                    [--redis URL]\n"
     "                    [--session-memory-mb N]\n"
     "  Listens on 127.0.0.1:8080 by default; port 0 picks a free port. Beyond loopback, agent (write)\n"
     "  and viewer (read) tokens are required. Flags override the config file (JSON, see\n"
@@ -86,6 +88,16 @@ void ApplyConfigFile(const std::filesystem::path& path, ServerOptions& o) {
     if (auto v = c.String("advertise", 256)) o.advertise = *v;
     o.lease_seconds = c.NumberOr("lease_seconds", o.lease_seconds);
     c.RejectUnknown();
+  }
+  if (const nlohmann::json* redis = f.Object("redis")) {
+    JsonFields r(*redis, "config.redis");
+    const auto url = r.String("url", 4096);
+    if (!url) r.Fail("url", "is required");
+    if (url) {
+      if (const auto address = ParseRedisUrl(*url); !address) r.Fail("url", address.error());
+    }
+    o.redis_url = url;
+    r.RejectUnknown();
   }
   if (auto v = f.String("on_restart")) {
     if (*v != "resume" && *v != "close") f.Fail("on_restart", "must be resume or close");
@@ -176,6 +188,9 @@ Result<ParsedCommandLine> ParseCommandLine(const std::vector<std::string>& args,
         o.advertise = value;
       } else if (flag == "--lease-seconds") {
         o.lease_seconds = static_cast<double>(integer(1, 3600));
+      } else if (flag == "--redis") {
+        if (const auto address = ParseRedisUrl(value); !address) return Error{"--redis " + address.error()};
+        o.redis_url = value;
       } else if (flag == "--web") {
         o.web_dir = std::filesystem::path(value);
       } else if (flag == "--replay-dir") {

@@ -25,6 +25,7 @@ struct ServerOptions {
   std::optional<std::string> node_id;
   std::optional<std::string> advertise;             // HOST:PORT for agents; default: the listening address
   double lease_seconds = 5.0;
+  std::optional<std::string> redis_url;             // live fan-out to and from other nodes
   std::optional<std::filesystem::path> web_dir;     // default: web/dist of the source tree, if found
   std::optional<std::filesystem::path> replay_dir;  // logs, relations and reference maps for replays
   int io_threads = 2;

@@ -208,6 +208,137 @@ std::vector<LiveMessage> LiveState::Snapshot() const {
   return out;
 }
 
+namespace {
+
+nlohmann::json ParseMessage(const Bytes& bytes, const char* type) {
+  nlohmann::json j = nlohmann::json::parse(*bytes);
+  if (!j.is_object() || j.value("type", "") != type) throw std::invalid_argument(std::string("not a ") + type + " message");
+  return j;
+}
+
+// The particle frame's poses and weights (the decoder checked its length).
+nlohmann::json ParticlesOfFrame(const std::string& frame) {
+  std::uint32_t n = 0;
+  std::memcpy(&n, frame.data() + 4, 4);
+  std::vector<Pose2D> poses(n);
+  std::vector<double> weights(n);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    float v[4];
+    std::memcpy(v, frame.data() + kParticleFrameHeader + 16 * std::size_t{i}, sizeof v);
+    poses[i] = Pose2D(v[0], v[1], v[2]);
+    weights[i] = v[3];
+  }
+  return ParticlesJson(poses, weights);
+}
+
+Bytes ParticleFrameOfJson(const nlohmann::json& particles) {
+  std::vector<Pose2D> poses;
+  std::vector<double> weights;
+  for (const auto& p : particles) {
+    poses.emplace_back(p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>());
+    weights.push_back(p.at(3).get<double>());
+  }
+  return EncodeParticleFrame(poses, weights);
+}
+
+TileKey KeyOfTileFrame(const std::string& frame) {
+  std::int32_t x = 0, y = 0;
+  std::memcpy(&x, frame.data() + 4, 4);
+  std::memcpy(&y, frame.data() + 8, 4);
+  return {x, y};
+}
+
+bool SamePoses(const std::vector<TrajectoryRow>& a, const std::vector<TrajectoryRow>& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const TrajectoryRow& p, const TrajectoryRow& q) {
+    return p.x == q.x && p.y == q.y && p.theta == q.theta && p.t == q.t;
+  });
+}
+
+}  // namespace
+
+void LiveState::Absorb(const LiveDelta& d) {
+  // Everything that can throw first, so a bad message changes nothing.
+  nlohmann::json pose = d.pose ? ParseMessage(d.pose, "pose") : pose_;
+  nlohmann::json stats = d.stats ? ParseMessage(d.stats, "stats") : stats_;
+  nlohmann::json exploration = d.exploration ? ParseMessage(d.exploration, "exploration") : exploration_;
+  std::vector<std::pair<std::int64_t, nlohmann::json>> events;
+  for (const auto& [id, message] : d.hypotheses) events.emplace_back(id, ParseMessage(message, "hypothesis"));
+  for (const auto& [id, event] : events) {
+    if (event.value("event", "") != "removed" && !event.contains("hypothesis")) throw std::invalid_argument("hypothesis event without a body");
+  }
+  for (const auto& [key, frame] : d.tiles) tiles_[key] = frame;
+  pose_ = std::move(pose);
+  stats_ = std::move(stats);
+  exploration_ = std::move(exploration);
+  if (d.particles) {
+    particle_frame_ = d.particles;
+    particles_ = ParticlesOfFrame(*d.particles);
+  }
+  if (d.trajectory) {
+    if (d.trajectory_first_index < static_cast<std::int64_t>(trajectory_.size())) {
+      trajectory_.resize(static_cast<std::size_t>(std::max<std::int64_t>(0, d.trajectory_first_index)));
+    }
+    trajectory_.insert(trajectory_.end(), d.trajectory->begin(), d.trajectory->end());
+  }
+  for (auto& [id, event] : events) {
+    if (event["event"] == "removed") {
+      hypotheses_.erase(id);
+    } else {
+      hypotheses_[id] = std::move(event["hypothesis"]);
+    }
+  }
+}
+
+LiveDelta LiveState::Replace(const std::string& snapshot, const std::vector<Bytes>& tiles) {
+  const nlohmann::json s = nlohmann::json::parse(snapshot);
+  if (!s.is_object() || s.value("type", "") != "snapshot") throw std::invalid_argument("not a snapshot message");
+  LiveState next(session_id_, s.at("resolution").get<double>());
+  for (const Bytes& frame : tiles) next.tiles_[KeyOfTileFrame(*frame)] = frame;
+  const nlohmann::json& pose = s.at("pose");
+  if (!pose.is_null()) next.pose_ = PoseJson(Pose2D(pose.at("x").get<double>(), pose.at("y").get<double>(), pose.at("theta").get<double>()));
+  for (const auto& p : s.at("trajectory").at("poses")) {
+    TrajectoryRow row;
+    row.scan_index = static_cast<std::int64_t>(next.trajectory_.size());
+    row.x = p.at(0).get<double>();
+    row.y = p.at(1).get<double>();
+    row.theta = p.at(2).get<double>();
+    row.t = p.at(3).get<double>();
+    next.trajectory_.push_back(row);
+  }
+  if (!s.at("particles").empty()) {
+    next.particles_ = s["particles"];
+    next.particle_frame_ = ParticleFrameOfJson(next.particles_);
+  }
+  for (const auto& body : s.at("hypotheses")) next.hypotheses_[body.at("id").get<std::int64_t>()] = body;
+  next.exploration_ = {{"type", "exploration"}, {"frontiers", s.at("frontiers")}, {"target", s.at("target")}};
+  next.stats_ = {{"type", "stats"}, {"stats", s.at("stats")}};
+
+  LiveDelta d;
+  for (const auto& [key, frame] : next.tiles_) {
+    const auto old = tiles_.find(key);
+    if (old == tiles_.end() || *old->second != *frame) d.tiles.emplace_back(key, frame);
+  }
+  if (!next.pose_.is_null() && next.pose_ != pose_) d.pose = MakeBytes(Dump(next.pose_));
+  if (next.particle_frame_ && (!particle_frame_ || *next.particle_frame_ != *particle_frame_)) d.particles = next.particle_frame_;
+  d.stats = MakeBytes(Dump(next.stats_));
+  if (next.exploration_ != exploration_) d.exploration = MakeBytes(Dump(next.exploration_));
+  if (!next.trajectory_.empty() && !SamePoses(next.trajectory_, trajectory_)) {
+    d.trajectory_first_index = 0;  // the whole trajectory replaces the viewer's
+    d.trajectory = std::make_shared<const std::vector<TrajectoryRow>>(next.trajectory_);
+  }
+  for (const auto& [id, body] : next.hypotheses_) {
+    const auto old = hypotheses_.find(id);
+    if (old == hypotheses_.end() || old->second != body) {
+      d.hypotheses.emplace_back(id, MakeBytes(Dump(HypothesisEvent(old == hypotheses_.end() ? "added" : "updated", body))));
+    }
+  }
+  for (const auto& [id, body] : hypotheses_) {
+    if (!next.hypotheses_.count(id)) d.hypotheses.emplace_back(id, MakeBytes(Dump(HypothesisEvent("removed", {{"id", id}}))));
+  }
+  *this = std::move(next);
+  return d;
+}
+
 std::vector<LiveMessage> StoredSnapshot(const std::string& session_id, const std::string& status, double resolution,
                                         const std::vector<TileRow>& tiles, const std::vector<TrajectoryRow>& trajectory,
                                         const std::vector<HypothesisRecord>& hypotheses, const nlohmann::json& stats) {

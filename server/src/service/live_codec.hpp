@@ -62,6 +62,13 @@ class LiveState {
   // The whole trajectory, for a viewer whose pending increments overflowed.
   Bytes FullTrajectory() const { return TrajectoryMessage(0, trajectory_); }
 
+  // A mirror of a session another node runs (docs/fleet.md) is kept from what that node's viewers
+  // get. Absorb takes one encoded tick; Replace takes a whole picture (a snapshot message and its
+  // tile frames) and returns the delta that brings a viewer of the old picture to the new one.
+  // Both throw on malformed JSON and then leave the state as it was.
+  void Absorb(const LiveDelta& delta);
+  LiveDelta Replace(const std::string& snapshot, const std::vector<Bytes>& tiles);
+
  private:
   std::string session_id_;
   double resolution_;

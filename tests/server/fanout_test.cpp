@@ -1,0 +1,184 @@
+// Live fan-out through Redis: two real pslam-server processes on one PostgreSQL and one Redis
+// (started on loopback by deploy/cluster/services.sh). A viewer on node B watches a session that
+// an agent maps on node A and gets the same map as A's own viewers; a later viewer on B gets the
+// snapshot at once; when A dies (kill -9) B's viewer keeps its socket and carries on once a node
+// runs the session again. Node B starts before the session exists, so it never resumes it itself.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <map>
+#include <thread>
+
+#include "common/zlib_codec.hpp"
+#include "server/support/agent_script.hpp"
+#include "server/support/clients.hpp"
+#include "server/support/server_process.hpp"
+#include "server/support/temp_dir.hpp"
+#include "server/support/test_services.hpp"
+
+namespace pslam::server::testing {
+namespace {
+
+// What one viewer has been shown: the latest frame per tile, the latest pose and stats.
+struct Picture {
+  std::map<std::pair<int, int>, std::string> tiles;
+  nlohmann::json pose, stats, snapshot;
+  std::string status;  // of a `session` message
+  int snapshots = 0;
+
+  void Take(const WsMessage& m) {
+    if (m.binary) {
+      if (m.data.compare(0, 4, "PSTL") != 0) return;
+      std::int32_t x = 0, y = 0;
+      std::memcpy(&x, m.data.data() + 4, 4);
+      std::memcpy(&y, m.data.data() + 8, 4);
+      tiles[{x, y}] = m.data;
+      return;
+    }
+    const auto j = m.Json();
+    const std::string type = j.value("type", "");
+    if (type == "snapshot") {
+      ++snapshots;
+      snapshot = j;
+      tiles.clear();
+      if (!j["pose"].is_null()) pose = j["pose"];
+      stats = j["stats"];
+    } else if (type == "pose") {
+      pose = j;
+    } else if (type == "stats") {
+      stats = j["stats"];
+    } else if (type == "session") {
+      status = j["status"];
+    }
+  }
+  std::int64_t processed() const { return stats.is_object() ? stats.value("processed_seq", std::int64_t{0}) : 0; }
+};
+
+// Reads 'ws' into 'picture' until 'done' holds; false on timeout or a closed socket.
+template <typename Done>
+bool ReadUntil(WsClient& ws, Picture& picture, Done done, std::chrono::seconds timeout = std::chrono::seconds(30)) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (!done(picture)) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) return false;
+    auto m = ws.Read(left);
+    if (!m) return false;
+    picture.Take(*m);
+  }
+  return true;
+}
+
+std::vector<std::uint8_t> Cells(const std::string& frame) {
+  const auto* payload = reinterpret_cast<const std::uint8_t*>(frame.data()) + 24;
+  auto cells = ZlibDecompress({payload, frame.size() - 24}, 64 * 64);
+  return cells ? *cells : std::vector<std::uint8_t>{};
+}
+
+void ExpectSameMap(const Picture& owner, const Picture& remote) {
+  ASSERT_FALSE(owner.tiles.empty());
+  ASSERT_EQ(owner.tiles.size(), remote.tiles.size());
+  for (const auto& [key, frame] : owner.tiles) {
+    const auto it = remote.tiles.find(key);
+    ASSERT_NE(it, remote.tiles.end()) << "tile " << key.first << "," << key.second;
+    const auto cells = Cells(frame);
+    ASSERT_EQ(cells.size(), 64u * 64u);
+    EXPECT_EQ(cells, Cells(it->second)) << "tile " << key.first << "," << key.second;
+  }
+}
+
+class FanoutTest : public ::testing::Test {
+ protected:
+  std::vector<std::string> NodeArgs() const {
+    return {"--postgres", postgres_.url(), "--redis", TestRedisUrl(), "--particles", "4", "--predict", "off"};
+  }
+  // Until A's REST says the filter has processed 'seq' (scans are acknowledged when stored).
+  static bool WaitProcessed(unsigned short port, const std::string& id, std::int64_t seq) {
+    for (int i = 0; i < 400; ++i) {
+      if (Get(port, "/api/sessions/" + id + "/stats").Json()["filter"]["processed_seq"] == seq) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    return false;
+  }
+
+  TempDir dir_;
+  TestPostgresDatabase postgres_;
+};
+
+TEST_F(FanoutTest, AViewerOnAnotherNodeSeesTheOwnersMapPoseAndStats) {
+  ServerProcess b(dir_.path() / "b", NodeArgs());
+  ServerProcess a(dir_.path() / "a", NodeArgs());
+  WsClient agent(a.port(), "/api/ingest");
+  agent.SendJson(Hello());
+  const std::string id = (*agent.ReadType("welcome"))["session_id"];
+
+  WsClient on_a(a.port(), "/api/sessions/" + id + "/live");
+  WsClient on_b(b.port(), "/api/sessions/" + id + "/live");
+  ASSERT_TRUE(on_a.open() && on_b.open());
+  Picture seen_a, seen_b;
+  for (std::int64_t seq = 1; seq <= 40; ++seq) SendScan(agent, seq, seq % 2 == 0);
+  ASSERT_EQ(WaitForAck(agent, 40), 40);
+  ASSERT_TRUE(WaitProcessed(a.port(), id, 40));
+  // B's viewer gets the ticks through Redis: the pose and stats of the last scan, and tiles.
+  ASSERT_TRUE(ReadUntil(on_b, seen_b, [](const Picture& p) { return p.processed() == 40 && !p.tiles.empty(); }))
+      << "B's viewer saw processed_seq " << seen_b.processed();
+  ASSERT_TRUE(ReadUntil(on_a, seen_a, [](const Picture& p) { return p.processed() == 40; }));
+
+  // A viewer joining B later gets the live picture at once (particles: it is not storage's).
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // the last ticks reached B's mirror
+  WsClient late_b(b.port(), "/api/sessions/" + id + "/live");
+  WsClient late_a(a.port(), "/api/sessions/" + id + "/live");
+  Picture snap_b, snap_a;
+  auto whole = [](const Picture& p) { return p.snapshots == 1 && p.tiles.size() == p.snapshot["tile_count"].get<std::size_t>(); };
+  ASSERT_TRUE(ReadUntil(late_b, snap_b, whole, std::chrono::seconds(5)));
+  ASSERT_TRUE(ReadUntil(late_a, snap_a, whole, std::chrono::seconds(5)));
+  EXPECT_EQ(snap_b.snapshot["status"], "active");
+  EXPECT_EQ(snap_b.snapshot["particles"].size(), 4u);
+  EXPECT_EQ(snap_b.snapshot["pose"], snap_a.snapshot["pose"]);
+  EXPECT_EQ(snap_b.snapshot["trajectory"]["poses"].size(), 40u);
+  EXPECT_EQ(snap_b.processed(), 40);
+  ExpectSameMap(snap_a, snap_b);
+
+  // Closing the session on A: every viewer, on either node, is told and holds the same map.
+  ASSERT_EQ(Post(a.port(), "/api/sessions/" + id + "/close", "").status, 200);
+  auto ended = [](const Picture& p) { return !p.status.empty(); };
+  ASSERT_TRUE(ReadUntil(on_a, seen_a, ended));
+  ASSERT_TRUE(ReadUntil(on_b, seen_b, ended));
+  EXPECT_EQ(seen_b.status, "closed");
+  EXPECT_EQ(seen_b.snapshots, 1);  // the one on subscribe; the rest came as deltas
+  ExpectSameMap(seen_a, seen_b);
+  EXPECT_EQ(seen_b.pose["x"], seen_a.pose["x"]);
+  EXPECT_EQ(seen_b.pose["y"], seen_a.pose["y"]);
+}
+
+TEST_F(FanoutTest, ARemoteViewerOutlivesItsOwnerAndContinuesWithTheNext) {
+  ServerProcess b(dir_.path() / "b", NodeArgs());
+  auto a = std::make_unique<ServerProcess>(dir_.path() / "a", NodeArgs());
+  std::string id;
+  {
+    WsClient agent(a->port(), "/api/ingest");
+    agent.SendJson(Hello());
+    id = (*agent.ReadType("welcome"))["session_id"];
+    for (std::int64_t seq = 1; seq <= 20; ++seq) SendScan(agent, seq, false);
+    ASSERT_EQ(WaitForAck(agent, 20), 20);
+  }
+  WsClient viewer(b.port(), "/api/sessions/" + id + "/live");
+  Picture seen;
+  ASSERT_TRUE(ReadUntil(viewer, seen, [](const Picture& p) { return p.processed() == 20 && !p.tiles.empty(); }));
+
+  a->Kill9();
+  // A new node over the same storage resumes the session (it was left active) and takes the agent.
+  ServerProcess a2(dir_.path() / "a2", NodeArgs());
+  WsClient agent(a2.port(), "/api/ingest");
+  agent.SendJson(Hello(id));
+  ASSERT_TRUE(agent.ReadType("welcome"));
+  for (std::int64_t seq = 21; seq <= 40; ++seq) SendScan(agent, seq, false);
+  ASSERT_EQ(WaitForAck(agent, 40), 40);
+  // The same socket on B shows the new owner's ticks.
+  ASSERT_TRUE(ReadUntil(viewer, seen, [](const Picture& p) { return p.processed() == 40; }))
+      << "B's viewer saw processed_seq " << seen.processed() << ", closed: " << viewer.closed();
+  EXPECT_TRUE(seen.status.empty());  // never told the session ended
+  EXPECT_FALSE(seen.tiles.empty());
+}
+
+}  // namespace
+}  // namespace pslam::server::testing
