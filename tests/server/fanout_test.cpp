@@ -5,8 +5,11 @@
 // runs the session again. Node B starts before the session exists, so it never resumes it itself.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstring>
+#include <fstream>
 #include <map>
+#include <sstream>
 #include <thread>
 
 #include "common/zlib_codec.hpp"
@@ -86,10 +89,44 @@ void ExpectSameMap(const Picture& owner, const Picture& remote) {
   }
 }
 
+std::string ReadFile(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// A loopback port nobody listens on (bound, then released).
+unsigned short FreePort() {
+  asio::io_context ioc;
+  tcp::acceptor acceptor(ioc, tcp::endpoint(asio::ip::make_address("127.0.0.1"), 0));
+  return acceptor.local_endpoint().port();
+}
+
+// A Redis server of the test's own on 'port', stopped at scope exit.
+class OwnRedis {
+ public:
+  OwnRedis(const std::filesystem::path& dir, unsigned short port) : pidfile_(dir / "redis.pid") {
+    const std::string start = "redis-server --bind 127.0.0.1 --port " + std::to_string(port) +
+                              " --save '' --appendonly no --daemonize yes --dir " + dir.string() + " --pidfile " +
+                              pidfile_.string() + " --logfile " + (dir / "redis.log").string();
+    if (std::system(start.c_str()) != 0) throw std::runtime_error("cannot start " + start);
+    const std::string ping = "redis-cli -p " + std::to_string(port) + " ping 2>/dev/null | grep -q PONG";
+    for (int i = 0; i < 100 && std::system(ping.c_str()) != 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ~OwnRedis() {
+    const std::string stop = "kill $(cat " + pidfile_.string() + ") 2>/dev/null";
+    (void)std::system(stop.c_str());
+  }
+
+ private:
+  std::filesystem::path pidfile_;
+};
+
 class FanoutTest : public ::testing::Test {
  protected:
-  std::vector<std::string> NodeArgs() const {
-    return {"--postgres", postgres_.url(), "--redis", TestRedisUrl(), "--particles", "4", "--predict", "off"};
+  std::vector<std::string> NodeArgs(const std::string& redis = TestRedisUrl()) const {
+    return {"--postgres", postgres_.url(), "--redis", redis, "--particles", "4", "--predict", "off"};
   }
   // Until A's REST says the filter has processed 'seq' (scans are acknowledged when stored).
   static bool WaitProcessed(unsigned short port, const std::string& id, std::int64_t seq) {
@@ -138,6 +175,10 @@ TEST_F(FanoutTest, AViewerOnAnotherNodeSeesTheOwnersMapPoseAndStats) {
   EXPECT_EQ(snap_b.processed(), 40);
   ExpectSameMap(snap_a, snap_b);
 
+  // Garbage on the session's channel is dropped with a log line; B serves on.
+  const std::string garbage = "redis-cli -u " + TestRedisUrl() + " PUBLISH pslam:live:" + id + " not-an-envelope >/dev/null";
+  ASSERT_EQ(std::system(garbage.c_str()), 0);
+
   // Closing the session on A: every viewer, on either node, is told and holds the same map.
   ASSERT_EQ(Post(a.port(), "/api/sessions/" + id + "/close", "").status, 200);
   auto ended = [](const Picture& p) { return !p.status.empty(); };
@@ -148,6 +189,7 @@ TEST_F(FanoutTest, AViewerOnAnotherNodeSeesTheOwnersMapPoseAndStats) {
   ExpectSameMap(seen_a, seen_b);
   EXPECT_EQ(seen_b.pose["x"], seen_a.pose["x"]);
   EXPECT_EQ(seen_b.pose["y"], seen_a.pose["y"]);
+  EXPECT_NE(ReadFile(b.log_path()).find("dropped a bad message"), std::string::npos);
 }
 
 TEST_F(FanoutTest, ARemoteViewerOutlivesItsOwnerAndContinuesWithTheNext) {
@@ -178,6 +220,42 @@ TEST_F(FanoutTest, ARemoteViewerOutlivesItsOwnerAndContinuesWithTheNext) {
       << "B's viewer saw processed_seq " << seen.processed() << ", closed: " << viewer.closed();
   EXPECT_TRUE(seen.status.empty());  // never told the session ended
   EXPECT_FALSE(seen.tiles.empty());
+}
+
+TEST_F(FanoutTest, MappingGoesOnWhileRedisIsDownAndFanOutResumesWhenItIsBack) {
+  const unsigned short port = FreePort();
+  const std::string redis = "redis://127.0.0.1:" + std::to_string(port);
+  ServerProcess b(dir_.path() / "b", NodeArgs(redis));
+  ServerProcess a(dir_.path() / "a", NodeArgs(redis));
+  WsClient agent(a.port(), "/api/ingest");
+  agent.SendJson(Hello());
+  const std::string id = (*agent.ReadType("welcome"))["session_id"];
+  WsClient remote(b.port(), "/api/sessions/" + id + "/live");
+  for (std::int64_t seq = 1; seq <= 20; ++seq) SendScan(agent, seq, false);
+  ASSERT_EQ(WaitForAck(agent, 20), 20);
+  ASSERT_TRUE(WaitProcessed(a.port(), id, 20));  // the filter does not wait for Redis
+  WsClient local(a.port(), "/api/sessions/" + id + "/live");
+  Picture seen_local;
+  ASSERT_TRUE(ReadUntil(local, seen_local, [](const Picture& p) { return p.processed() == 20 && !p.tiles.empty(); }));
+  EXPECT_NE(ReadFile(a.log_path()).find("cannot connect to Redis"), std::string::npos);
+
+  // Redis comes up: both nodes reconnect (back-off of at most 5 s) and B's viewer follows A.
+  const auto redis_dir = dir_.path() / "redis";
+  std::filesystem::create_directories(redis_dir);
+  OwnRedis server(redis_dir, port);
+  std::atomic<bool> stop{false};
+  std::thread robot([&] {  // keeps mapping, a scan every 100 ms
+    for (std::int64_t seq = 21; seq <= 300 && !stop; ++seq) {
+      SendScan(agent, seq, false);
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  });
+  Picture seen;  // storage's snapshot says 20; more can only come through Redis
+  const bool followed = ReadUntil(remote, seen, [](const Picture& p) { return p.processed() > 25 && !p.tiles.empty(); });
+  stop = true;
+  robot.join();
+  ASSERT_TRUE(followed) << "B's viewer saw processed_seq " << seen.processed();
+  EXPECT_TRUE(seen.status.empty());
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include <cstring>
 #include <iostream>
+#include <optional>
 #include <random>
 
 #include "service/live_envelope.hpp"
@@ -203,41 +204,48 @@ void LiveFanout::PublishLoop() {
   auto backoff = std::chrono::milliseconds(100);
   auto retry_at = std::chrono::steady_clock::now();
   LimitedLog failures;
-  std::chrono::steady_clock::time_point drain_until{};
+  std::optional<std::chrono::steady_clock::time_point> drain_until;
   for (;;) {
-    Outgoing item;
     {
       std::unique_lock lock(queue_mutex_);
       queue_ready_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
       if (stopping_) {
-        if (drain_until == std::chrono::steady_clock::time_point{}) drain_until = std::chrono::steady_clock::now() + std::chrono::seconds(1);
-        if (queue_.empty() || std::chrono::steady_clock::now() > drain_until) return;
+        if (!drain_until) drain_until = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+        if (queue_.empty() || !redis || std::chrono::steady_clock::now() > *drain_until) return;
       }
-      item = std::move(queue_.front());
-      queue_.pop_front();
-      queued_bytes_ -= item.bytes;
+      if (!redis && std::chrono::steady_clock::now() < retry_at) {
+        // Backing off: messages wait in the queue (engines drop theirs when it is full).
+        queue_ready_.wait_until(lock, retry_at, [&] { return stopping_.load(); });
+        continue;
+      }
     }
-    if (!redis && std::chrono::steady_clock::now() >= retry_at) {
+    if (!redis) {
       auto connected = RedisConnection::Connect(address_, kConnectTimeout);
-      if (connected) {
-        redis = std::move(connected.value());
-        if (backoff > std::chrono::milliseconds(100)) std::cerr << "live fan-out: publishing to Redis again\n";
-        backoff = std::chrono::milliseconds(100);
-      } else {
+      if (!connected) {
         ++counters_.publish_failures;
         failures.Write("cannot connect to Redis at " + address_.host + ":" + std::to_string(address_.port) + ": " + connected.error());
         retry_at = std::chrono::steady_clock::now() + backoff;
         backoff = NextBackoff(backoff);
+        continue;
       }
+      redis = std::move(connected.value());
+      if (backoff > std::chrono::milliseconds(100)) std::cerr << "live fan-out: publishing to Redis again\n";
+      backoff = std::chrono::milliseconds(100);
     }
-    if (redis && PublishOne(*redis, item)) continue;
-    if (redis) {
-      ++counters_.publish_failures;
-      failures.Write("publishing failed: " + redis->error());
-      redis.reset();
-      retry_at = std::chrono::steady_clock::now() + backoff;
-      backoff = NextBackoff(backoff);
+    Outgoing item;
+    {
+      std::lock_guard lock(queue_mutex_);
+      if (queue_.empty()) continue;
+      item = std::move(queue_.front());
+      queue_.pop_front();
+      queued_bytes_ -= item.bytes;
     }
+    if (PublishOne(*redis, item)) continue;
+    ++counters_.publish_failures;
+    failures.Write("publishing failed: " + redis->error());
+    redis.reset();
+    retry_at = std::chrono::steady_clock::now() + backoff;
+    backoff = NextBackoff(backoff);
     // The message is lost: receivers of its session need the whole picture again.
     ++counters_.dropped;
     std::lock_guard lock(queue_mutex_);
