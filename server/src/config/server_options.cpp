@@ -93,9 +93,7 @@ void ApplyConfigFile(const std::filesystem::path& path, ServerOptions& o) {
     JsonFields r(*redis, "config.redis");
     const auto url = r.String("url", 4096);
     if (!url) r.Fail("url", "is required");
-    if (url) {
-      if (const auto address = ParseRedisUrl(*url); !address) r.Fail("url", address.error());
-    }
+    if (const auto address = ParseRedisUrl(*url); !address) r.Fail("url", address.error());
     o.redis_url = url;
     r.RejectUnknown();
   }

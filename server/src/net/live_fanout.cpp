@@ -115,39 +115,50 @@ bool LiveFanout::Offer(Outgoing item) {
   return true;
 }
 
-void LiveFanout::QueueKeyframe(const std::string& session_id, const LiveState& state, PublishedSession& session) {
-  // A cheap check first: a full queue would refuse the snapshot anyway.
-  if (queue_.size() >= kMaxQueued) {
-    ++counters_.dropped;
-    session.keyframe_due = true;
-    return;
+bool LiveFanout::OfferKeyframe(const std::string& session_id, const LiveState& state) {
+  {
+    // A cheap check first: a full queue would refuse the snapshot anyway.
+    std::lock_guard lock(queue_mutex_);
+    if (queue_.size() >= kMaxQueued) {
+      ++counters_.dropped;
+      sessions_[session_id].keyframe_due = true;
+      return false;
+    }
   }
+  // Built outside the queue's lock, so other sessions' engines do not wait for it; the caller
+  // holds the session's lock, so none of its ticks can pass it.
+  std::vector<LiveMessage> snapshot = state.Snapshot();
+  std::lock_guard lock(queue_mutex_);
+  PublishedSession& session = sessions_[session_id];
   Outgoing item = NewItem(Outgoing::Kind::kKeyframe, session_id, session.seq);
-  item.snapshot = state.Snapshot();
+  item.snapshot = std::move(snapshot);
   item.bytes = SizeOf(item.snapshot);
   session.keyframe_due = !Offer(std::move(item));
   if (!session.keyframe_due) ++session.seq;
+  return !session.keyframe_due;
 }
 
 void LiveFanout::Published(const std::string& session_id, const std::shared_ptr<const LiveDelta>& delta,
                            const LiveState& state) {
-  std::lock_guard lock(queue_mutex_);
-  PublishedSession& session = sessions_[session_id];
-  if (session.keyframe_due) return QueueKeyframe(session_id, state, session);
-  Outgoing item = NewItem(Outgoing::Kind::kDelta, session_id, session.seq);
-  item.delta = delta;
-  item.bytes = SizeOf(*delta);
-  if (Offer(std::move(item))) {
-    ++session.seq;
-  } else {
-    session.keyframe_due = true;  // receivers would miss this tick: the next message is whole
+  {
+    std::lock_guard lock(queue_mutex_);
+    PublishedSession& session = sessions_[session_id];
+    if (!session.keyframe_due) {
+      Outgoing item = NewItem(Outgoing::Kind::kDelta, session_id, session.seq);
+      item.delta = delta;
+      item.bytes = SizeOf(*delta);
+      if (Offer(std::move(item))) {
+        ++session.seq;
+      } else {
+        session.keyframe_due = true;  // receivers would miss this tick: the next message is whole
+      }
+      return;
+    }
   }
+  OfferKeyframe(session_id, state);
 }
 
-void LiveFanout::Keyframe(const std::string& session_id, const LiveState& state) {
-  std::lock_guard lock(queue_mutex_);
-  QueueKeyframe(session_id, state, sessions_[session_id]);
-}
+void LiveFanout::Keyframe(const std::string& session_id, const LiveState& state) { OfferKeyframe(session_id, state); }
 
 void LiveFanout::Ended(const std::string& session_id, const std::string& status) {
   std::lock_guard lock(queue_mutex_);
@@ -366,7 +377,9 @@ void LiveFanout::HandleReply(const redisReply& reply) {
 
 void LiveFanout::HandleLive(const std::string& session_id, const char* data, std::size_t size) {
   ++counters_.received;
-  Incoming& in = incoming_[session_id];
+  const auto tracked = incoming_.find(session_id);
+  if (tracked == incoming_.end()) return;  // unsubscribed meanwhile
+  Incoming& in = tracked->second;
   auto resync = [&] {
     const auto now = std::chrono::steady_clock::now();
     if (now - in.last_sync < kSyncInterval) return;

@@ -75,7 +75,8 @@ class LiveFanout : public LiveRelay {
   static Outgoing NewItem(Outgoing::Kind kind, const std::string& session_id, std::uint64_t seq);
   // Queues 'item' if the queue has room; the caller holds queue_mutex_.
   bool Offer(Outgoing item);
-  void QueueKeyframe(const std::string& session_id, const LiveState& state, PublishedSession& session);
+  // Queues the session's whole picture; false (and one due) if the queue is full.
+  bool OfferKeyframe(const std::string& session_id, const LiveState& state);
   void RequestSync(const std::string& session_id);
   void PublishLoop();
   bool PublishOne(RedisConnection& redis, const Outgoing& item);
