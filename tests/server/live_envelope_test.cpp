@@ -153,6 +153,19 @@ TEST(LiveEnvelopeTest, MalformedEnvelopesAreErrorsAndNeverCrash) {
     }
   }
   LiveState mirror("s-1", 0.05);
+  // Well-formed JSON that lacks what the snapshot reads is refused too.
+  for (const char* message : {R"({"type": "pose", "y": 1, "theta": 0})", R"({"type": "pose", "x": "1", "y": 1, "theta": 0})"}) {
+    LiveDelta d;
+    d.pose = MakeBytes(message);
+    EXPECT_THROW(mirror.Absorb(d), std::exception) << message;
+  }
+  LiveDelta no_stats;
+  no_stats.stats = MakeBytes(R"({"type": "stats"})");
+  EXPECT_THROW(mirror.Absorb(no_stats), std::exception);
+  LiveDelta no_body;
+  no_body.hypotheses.emplace_back(3, MakeBytes(R"({"type": "hypothesis", "event": "added"})"));
+  EXPECT_THROW(mirror.Absorb(no_body), std::exception);
+  EXPECT_TRUE(nlohmann::json::parse(*mirror.Snapshot()[0].data)["pose"].is_null());
   EXPECT_THROW(mirror.Replace("{\"type\": \"snapshot\"}", {}), std::exception);
   EXPECT_THROW(mirror.Replace("not json", {}), std::exception);
   EXPECT_EQ(mirror.Snapshot().size(), 1u);

@@ -132,8 +132,12 @@ void Hub::MirrorDelta(const std::string& session_id, const LiveDelta& delta) {
     std::lock_guard lock(channel->mutex);
     if (channel->local || channel->removed) return;
     // Without a keyframe yet there is no picture to keep, but the viewers (who got what storage
-    // holds) still take the tick.
-    if (channel->state) channel->state->Absorb(delta);
+    // holds) still take the tick, once it proved sound.
+    if (channel->state) {
+      channel->state->Absorb(delta);
+    } else {
+      LiveState(session_id, 0.05).Absorb(delta);
+    }
     viewers = LiveViewers(*channel);
   }
   const auto shared = std::make_shared<const LiveDelta>(delta);

@@ -210,9 +210,17 @@ std::vector<LiveMessage> LiveState::Snapshot() const {
 
 namespace {
 
-nlohmann::json ParseMessage(const Bytes& bytes, const char* type) {
+// A message of 'type' with the fields the snapshot reads from it ('numbers' must be numbers).
+nlohmann::json ParseMessage(const Bytes& bytes, const char* type, std::initializer_list<const char*> fields,
+                            std::initializer_list<const char*> numbers = {}) {
   nlohmann::json j = nlohmann::json::parse(*bytes);
   if (!j.is_object() || j.value("type", "") != type) throw std::invalid_argument(std::string("not a ") + type + " message");
+  for (const char* f : fields) {
+    if (!j.contains(f)) throw std::invalid_argument(std::string(type) + " message without " + f);
+  }
+  for (const char* f : numbers) {
+    if (!j.contains(f) || !j[f].is_number()) throw std::invalid_argument(std::string(type) + " message without a number " + f);
+  }
   return j;
 }
 
@@ -258,13 +266,15 @@ bool SamePoses(const std::vector<TrajectoryRow>& a, const std::vector<Trajectory
 
 void LiveState::Absorb(const LiveDelta& d) {
   // Everything that can throw first, so a bad message changes nothing.
-  nlohmann::json pose = d.pose ? ParseMessage(d.pose, "pose") : pose_;
-  nlohmann::json stats = d.stats ? ParseMessage(d.stats, "stats") : stats_;
-  nlohmann::json exploration = d.exploration ? ParseMessage(d.exploration, "exploration") : exploration_;
+  nlohmann::json pose = d.pose ? ParseMessage(d.pose, "pose", {}, {"x", "y", "theta"}) : pose_;
+  nlohmann::json stats = d.stats ? ParseMessage(d.stats, "stats", {"stats"}) : stats_;
+  nlohmann::json exploration = d.exploration ? ParseMessage(d.exploration, "exploration", {"frontiers", "target"}) : exploration_;
   std::vector<std::pair<std::int64_t, nlohmann::json>> events;
-  for (const auto& [id, message] : d.hypotheses) events.emplace_back(id, ParseMessage(message, "hypothesis"));
-  for (const auto& [id, event] : events) {
-    if (event.value("event", "") != "removed" && !event.contains("hypothesis")) throw std::invalid_argument("hypothesis event without a body");
+  for (const auto& [id, message] : d.hypotheses) {
+    events.emplace_back(id, ParseMessage(message, "hypothesis", {"event"}));
+    if (events.back().second["event"] != "removed" && !events.back().second.contains("hypothesis")) {
+      throw std::invalid_argument("hypothesis event without a body");
+    }
   }
   for (const auto& [key, frame] : d.tiles) tiles_[key] = frame;
   pose_ = std::move(pose);
