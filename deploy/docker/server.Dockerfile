@@ -13,7 +13,7 @@ RUN cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DPSLAM_BUILD_TESTS=
 
 FROM debian:12-slim
 RUN apt-get update && apt-get install -y --no-install-recommends \
-      libsqlite3-0 zlib1g libbz2-1.0 libceres3 libopencv-core406 libopencv-imgproc406 libopencv-imgcodecs406 ca-certificates \
+      libsqlite3-0 libpq5 libhiredis0.14 zlib1g libbz2-1.0 libceres3 libopencv-core406 libopencv-imgproc406 libopencv-imgcodecs406 ca-certificates \
  && rm -rf /var/lib/apt/lists/* \
  && useradd --system --home /var/lib/pslam pslam && mkdir -p /var/lib/pslam && chown pslam /var/lib/pslam
 COPY --from=build /src/build/bin/pslam-server /src/build/bin/pslam /usr/local/bin/
