@@ -64,6 +64,11 @@ LimitedLog& RejectLog() {
   return log;
 }
 
+LimitedLog& OverflowLog() {
+  static LimitedLog log;  // under the queue's lock
+  return log;
+}
+
 std::chrono::milliseconds NextBackoff(std::chrono::milliseconds b) { return std::min(b * 2, kMaxBackoff); }
 
 }  // namespace
@@ -86,6 +91,10 @@ void LiveFanout::Stop() {
   Wake();
   if (publisher_.joinable()) publisher_.join();
   if (subscriber_.joinable()) subscriber_.join();
+  const LiveFanoutCounters& c = counters_;
+  std::cerr << "live fan-out: published " << c.published << " messages (" << c.published_bytes << " bytes), dropped "
+            << c.dropped << ", " << c.publish_failures << " Redis failures; received " << c.received << ", rejected "
+            << c.rejected << ", " << c.gaps << " gaps\n";
 }
 
 void LiveFanout::Wake() {
@@ -107,6 +116,7 @@ LiveFanout::Outgoing LiveFanout::NewItem(Outgoing::Kind kind, const std::string&
 bool LiveFanout::Offer(Outgoing item) {
   if (queue_.size() >= kMaxQueued || queued_bytes_ + item.bytes > kMaxQueuedBytes) {
     ++counters_.dropped;
+    OverflowLog().Write("Redis does not keep up: dropped a message of " + item.session_id + ", a keyframe follows");
     return false;
   }
   queued_bytes_ += item.bytes;
@@ -121,6 +131,7 @@ bool LiveFanout::OfferKeyframe(const std::string& session_id, const LiveState& s
     std::lock_guard lock(queue_mutex_);
     if (queue_.size() >= kMaxQueued) {
       ++counters_.dropped;
+      OverflowLog().Write("Redis does not keep up: no room for a keyframe of " + session_id);
       sessions_[session_id].keyframe_due = true;
       return false;
     }

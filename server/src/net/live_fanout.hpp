@@ -41,7 +41,7 @@ class LiveFanout : public LiveRelay {
   LiveFanout(const LiveFanout&) = delete;
   LiveFanout& operator=(const LiveFanout&) = delete;
 
-  // Publishes what is queued (for up to a second), then stops both threads.
+  // Publishes what is queued (for up to a second), stops both threads and logs the counters.
   void Stop();
   const LiveFanoutCounters& counters() const { return counters_; }
 
