@@ -168,8 +168,10 @@ def main():
         seconds = time.monotonic() - t0
         in1, out1 = redis_counters(redis)
         on_a.stop = on_b.stop = True
-        lat = [(on_b.tiles[k] - t) / 1e6 for k, t in on_a.tiles.items() if k in on_b.tiles and t > live_since]
-        print(f"stream: {seconds:.1f} s, tile frames: A {len(on_a.tiles)}, B {len(on_b.tiles)}, on both after joining {len(lat)}")
+        after = [k for k, t in on_a.tiles.items() if t > live_since]
+        lat = [(on_b.tiles[k] - on_a.tiles[k]) / 1e6 for k in after if k in on_b.tiles]
+        print(f"stream: {seconds:.1f} s, distinct tile frames: A {len(on_a.tiles)}, B {len(on_b.tiles)}; "
+              f"of A's after joining, {len(lat)} of {len(after)} reached B")
         print(f"tile latency A viewer -> B viewer: p50 {percentile(lat, 50):.1f} ms, p95 {percentile(lat, 95):.1f} ms, "
               f"max {max(lat) if lat else float('nan'):.1f} ms")
         print(f"Redis in (publishes): {(in1 - in0) / seconds / 1024:.1f} KiB/s, out (to subscribers): "
