@@ -38,11 +38,12 @@ trap stop INT TERM EXIT
 
 deploy/cluster/services.sh start "$state" >/dev/null
 postgres=$(cat "$state/postgres.url")
+redis=$(cat "$state/redis.url")
 servers=""
 for i in $(seq 1 "$nodes"); do
   port=$((base + i - 1))
   build/bin/pslam-server --listen "127.0.0.1:$port" --data "$state/node-$i" --postgres "$postgres" \
-    --node-id "node-$i" --lease-seconds "$lease" >"$state/node-$i.log" 2>&1 &
+    --redis "$redis" --node-id "node-$i" --lease-seconds "$lease" >"$state/node-$i.log" 2>&1 &
   pids+=($!)
   echo "node-$i: http://127.0.0.1:$port (pid $!, log $state/node-$i.log)"
   servers+="${servers:+,}127.0.0.1:$port"
@@ -53,5 +54,5 @@ for i in $(seq 1 "$robots"); do
   pids+=($!)
 done
 [[ $robots -gt 0 ]] && echo "$robots simulated robot(s) streaming to $servers"
-echo "PostgreSQL $postgres; Ctrl-C stops everything"
+echo "PostgreSQL $postgres, Redis $redis; Ctrl-C stops everything"
 wait

@@ -276,6 +276,7 @@ void Agent::CloseLeftoverSession() {
   ServerLinkOptions link;
   link.host = options_.server_host;
   link.port = options_.server_port;
+  link.other_servers = options_.other_servers;
   link.token = options_.token;
   if (const auto error = CloseServerSession(link, state->session_id, kCloseTimeoutSeconds)) {
     PSLAM_LOG(kWarning) << "could not close session " << state->session_id << " (" << *error << ")";

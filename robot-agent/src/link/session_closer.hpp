@@ -8,7 +8,8 @@
 
 namespace pslam::agent {
 
-// nullopt on success, else what went wrong. Waits at most 'timeout_s' (the server drains the
+// nullopt on success, else what went wrong. A fleet's node that does not run the session answers
+// 307 with the node that does; a node that cannot be reached is followed by the next one known. Waits at most 'timeout_s' (the server drains the
 // session's filter before it answers).
 std::optional<std::string> CloseServerSession(const ServerLinkOptions& link, const std::string& session_id,
                                               double timeout_s);
