@@ -68,6 +68,8 @@ std::string RowJson(const ExploreRow& row) {
                      {"plans", JsonNumber(s.plans)},
                      {"planning_ms_per_plan", JsonNumber(s.plans > 0 ? s.planning_ms / s.plans : 0.0)},
                      {"max_planning_ms", JsonNumber(s.max_planning_ms)},
+                     {"expanded_cells_per_plan", JsonNumber(s.plans > 0 ? s.expanded_nodes / s.plans : 0.0)},
+                     {"way_ins", JsonNumber(s.way_ins)},
                      {"hypotheses", JsonNumber(s.hypotheses)},
                      {"confirmed", JsonNumber(s.slam.confirmed)},
                      {"refuted", JsonNumber(s.slam.refuted)},

@@ -107,6 +107,8 @@ struct ExplorationSummary {
   int plans = 0;                       // calls to the explorer
   double planning_ms = 0.0;            // wall time spent choosing targets, all plans
   double max_planning_ms = 0.0;        // the slowest plan
+  double expanded_nodes = 0.0;         // cells the path searches settled, all plans
+  int way_ins = 0;                     // targets that were the way into space predictions sealed off
   int targets = 0;                     // distinct targets chosen (each is a P-SLAM target T_k)
   int given_up = 0;                    // targets blacklisted after a repeated collision or a long stop
   int skipped_clusters = 0;            // frontier clusters skipped as covered at the last plan
@@ -180,6 +182,7 @@ class ExplorationRun {
 
   std::optional<ExploreTarget> target_;
   std::vector<Eigen::Vector2d> blacklist_;
+  std::vector<Eigen::Vector2d> tried_way_ins_;  // way-in exits reached (ExploreOptions::way_in_cost_factor)
   double next_plan_time_ = 0.0;
   double stopped_since_ = -1.0;    // simulated time the obstacle stop began holding the robot
   double look_around_until_ = -1.0;
@@ -189,6 +192,7 @@ class ExplorationRun {
   int blocked_plans_ = 0;
   bool reached_since_forgiving_ = true;  // a goal was reached since the blacklist was last cleared
   bool hypothesis_arrived_ = false;  // since the last plan
+  bool goal_reached_ = false;        // the current target was reached since the last plan
 
   std::vector<Hypothesis> accepted_;
   std::vector<Pose2D> accepted_map_to_world_;

@@ -1,10 +1,13 @@
 #pragma once
-// Choosing where to explore next: the nearest reachable frontier cluster by path length.
+// Choosing where to explore next: the reachable frontier cluster with the lowest path cost less
+// what it is worth (its length, capped, and a bonus for the goal the robot already drives to).
 //
 // Two modes, as in the paper's maze simulation (Sec. V-A1): full coverage visits every frontier,
 // and skip-predicted leaves out frontiers whose unknown surroundings are already covered by
 // accepted structure hypotheses (the caller's predicate), which is how P-SLAM saves exploration
-// time. One Dijkstra search from the robot ranks all clusters at once.
+// time. One Dijkstra search from the robot ranks the clusters in order of path cost, and stops as
+// soon as no cluster farther out could beat the best one found: the cost of a plan grows with the
+// distance to the next target, not with the size of the map.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <functional>
@@ -47,6 +50,23 @@ struct ExploreOptions {
   // yet seen, the planner finds a way out through them, and each prediction out there opens new
   // frontiers to predict for. Unset: unbounded.
   std::optional<Eigen::AlignedBox2d> area;
+  // What a cluster is worth, in metres of path cost: gain_weight times its frontier length, at most
+  // gain_cap_m. A long opening beats a pocket beside a desk that is a little nearer.
+  double gain_weight = 1.0;
+  double gain_cap_m = 2.0;
+  // Hysteresis: the cluster that still holds the current goal (a cell within keep_goal_radius of
+  // ExploreRequest::current_goal) is worth keep_goal_bonus more, so the robot does not turn back and
+  // forth between frontiers at nearly the same cost each time it replans.
+  double keep_goal_bonus = 3.0;   // m
+  double keep_goal_radius = 1.0;  // m
+  // Way in (skip-predicted, when no frontier is left to go to): predicted cells are not verified,
+  // and a predicted wall may stand where the building opens. The search then goes on through
+  // predicted and unknown cells at way_in_cost_factor times their length, and when it reaches a
+  // cluster that is not covered, the target is where that way leaves the traversable space. 0: off.
+  // Exits within way_in_tried_radius of one the caller already reached are not offered again, nor
+  // ways through the unverified cells that close to it.
+  double way_in_cost_factor = 0.0;
+  double way_in_tried_radius = 1.5;  // m
 };
 
 // Whether an unknown cell (of the built map's lattice) is covered by an accepted hypothesis.
@@ -66,6 +86,10 @@ struct ExploreRequest {
   // fraction counts them, so that an unknown gap between predictions is skipped, not visited.
   // Empty: the planning map's unknown cells are all there is.
   CoveredPredicate predicted;
+  // The target the robot is driving to (ExploreOptions::keep_goal_bonus); unset: none.
+  std::optional<Eigen::Vector2d> current_goal;
+  // Way-in exits the robot has reached (ExploreOptions::way_in_cost_factor).
+  std::vector<Eigen::Vector2d> tried_way_ins;
 };
 
 struct ExploreTarget {
@@ -74,6 +98,9 @@ struct ExploreTarget {
   Eigen::Vector2d position = Eigen::Vector2d::Zero();  // its centre
   double path_length = 0.0;            // m along the cell path
   std::vector<Eigen::Vector2d> path;   // simplified waypoints from the robot to 'position'
+  // 'position' is not on the cluster but where the way to it leaves the traversable space
+  // (ExploreOptions::way_in_cost_factor); the caller reports it in tried_way_ins once reached.
+  bool way_in = false;
 };
 
 struct ExploreDecision {
@@ -86,8 +113,10 @@ struct ExploreDecision {
   int blacklisted = 0;
   int too_close = 0;         // within min_target_distance of the robot
   int outside_area = 0;      // outside ExploreOptions::area
+  int unranked = 0;          // beyond where the search stopped: none of them could have been chosen
   bool start_blocked = false;     // the robot's own position could not be left: nothing is reachable
   bool search_truncated = false;  // the search hit its node cap: farther clusters were not ranked
+  std::size_t expanded_nodes = 0; // cells the path search settled
 
   bool done() const { return !target.has_value(); }
 };

@@ -46,7 +46,8 @@ bool SegmentCells(const Eigen::Vector2i& a, const Eigen::Vector2i& b, Ok&& ok) {
 }  // namespace
 
 bool SearchTree::Reached(const Eigen::Vector2i& c) const {
-  return grid_->Contains(c) && !cost_.empty() && cost_[grid_->Index(c)] != kUnreached;
+  // Only settled cells carry final costs; tentative ones are not reached.
+  return grid_->Contains(c) && !settled_.empty() && settled_[grid_->Index(c)];
 }
 
 double SearchTree::Cost(const Eigen::Vector2i& c) const {
@@ -92,7 +93,8 @@ std::vector<Eigen::Vector2d> SearchTree::PathTo(const Eigen::Vector2i& c) const 
   return path;
 }
 
-SearchTree GrowSearchTree(const PlanningGrid& grid, const Eigen::Vector2d& start, std::optional<Eigen::Vector2i> goal) {
+SearchTree GrowSearchTree(const PlanningGrid& grid, const Eigen::Vector2d& start, std::optional<Eigen::Vector2i> goal,
+                          const SettleCallback& on_settle) {
   SearchTree tree(grid);
   tree.start_ = start;
   const std::size_t n = grid.size();
@@ -152,6 +154,10 @@ SearchTree GrowSearchTree(const PlanningGrid& grid, const Eigen::Vector2d& start
     ++tree.expanded_;
     const Eigen::Vector2i c = grid.CellAt(i);
     if (goal && c == *goal) break;
+    if (on_settle && !on_settle(i, tree.cost_[i])) {
+      tree.stopped_ = true;
+      break;
+    }
     for (const Move& m : kMoves) {
       const Eigen::Vector2i next = c + Eigen::Vector2i(m.dx, m.dy);
       if (!grid.IsTraversable(next)) continue;
@@ -169,10 +175,6 @@ SearchTree GrowSearchTree(const PlanningGrid& grid, const Eigen::Vector2d& start
       tree.parent_[j] = static_cast<std::int32_t>(i);
       open.push({priority(next, cost), j});
     }
-  }
-  // Only settled cells carry final costs; forget the tentative rest so Reached() means settled.
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!tree.settled_[i]) tree.cost_[i] = tree.length_[i] = kUnreached;
   }
   return tree;
 }

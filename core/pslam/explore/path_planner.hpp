@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -15,10 +16,14 @@ namespace pslam {
 
 class SearchTree;
 
+// Called as each cell is settled, with its grid index and cost; returning false ends the search
+// there (the cell counts as settled). Lets a caller stop once nothing farther can matter to it.
+using SettleCallback = std::function<bool(std::size_t index, double cost)>;
+
 // Dijkstra from 'start' over the whole reachable space when 'goal' is empty; A* that stops once
-// 'goal' is settled otherwise.
+// 'goal' is settled otherwise. 'on_settle', when given, may end the search earlier.
 SearchTree GrowSearchTree(const PlanningGrid& grid, const Eigen::Vector2d& start,
-                          std::optional<Eigen::Vector2i> goal = std::nullopt);
+                          std::optional<Eigen::Vector2i> goal = std::nullopt, const SettleCallback& on_settle = {});
 
 // A search from one start position: best cost, path length and parent of every cell it settled.
 // Keeps a pointer to the planning grid, which must outlive it.
@@ -26,6 +31,7 @@ class SearchTree {
  public:
   bool start_blocked() const { return start_blocked_; }  // no traversable cell within the escape radius
   bool truncated() const { return truncated_; }          // stopped at max_expanded_nodes
+  bool stopped() const { return stopped_; }              // ended by the caller's SettleCallback
   std::size_t expanded_nodes() const { return expanded_; }
 
   bool Reached(const Eigen::Vector2i& c) const;
@@ -37,13 +43,15 @@ class SearchTree {
   std::vector<Eigen::Vector2d> PathTo(const Eigen::Vector2i& c) const;
 
  private:
-  friend SearchTree GrowSearchTree(const PlanningGrid&, const Eigen::Vector2d&, std::optional<Eigen::Vector2i>);
+  friend SearchTree GrowSearchTree(const PlanningGrid&, const Eigen::Vector2d&, std::optional<Eigen::Vector2i>,
+                                   const SettleCallback&);
   explicit SearchTree(const PlanningGrid& grid) : grid_(&grid) {}
 
   const PlanningGrid* grid_;
   Eigen::Vector2d start_ = Eigen::Vector2d::Zero();
   bool start_blocked_ = false;
   bool truncated_ = false;
+  bool stopped_ = false;
   std::size_t expanded_ = 0;
   std::vector<float> cost_;
   std::vector<float> length_;
