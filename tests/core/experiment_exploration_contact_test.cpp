@@ -1,7 +1,8 @@
 // A contact at a door jamb is about where the robot stands, not about the target: in generated
-// office seed 3 the robot touches a jamb 80 s in. Planned again from against the jamb, every way
+// office seed 3 the robot touched a jamb 80 s in. Planned again from against the jamb, every way
 // out left along it and touched it again, each contact gave the next target up, and the run
-// ended as "explored" after 100 s with 4 % of the floor seen.
+// ended as "explored" after 100 s with 4 % of the floor seen. On today's route through that
+// office the jamb is not touched; in generated hotel seed 4 a jamb is, within the first 150 s.
 #include <gtest/gtest.h>
 
 #include "pslam/experiment/exploration_run.hpp"
@@ -11,7 +12,7 @@ namespace pslam {
 namespace {
 
 TEST(ExplorationContactTest, ATouchedDoorJambNeitherEndsTheRunNorGivesEveryTargetUp) {
-  const FloorPlan plan = GenerateFloorPlan(FloorPlanFamily::kOffice, 3);
+  const FloorPlan plan = GenerateFloorPlan(FloorPlanFamily::kHotel, 4);
   ExplorationOptions options = DefaultExplorationOptions();  // as 'pslam experiment explore' runs it
   options.slam.predict = false;
   options.slam.filter.threads = 1;

@@ -32,6 +32,14 @@ ExplorationOptions ShortRunOptions(ExploreMode mode, double time_limit_s) {
   return options;
 }
 
+// The nearest frontier first, with no worth and no hysteresis: the route on which some of the cases
+// below were found. Where the robot is when a prediction is made decides what it predicts.
+ExplorationOptions NearestFirst(ExplorationOptions options) {
+  options.explore.gain_weight = 0.0;
+  options.explore.keep_goal_bonus = 0.0;
+  return options;
+}
+
 // Cells of 'cells' that 'map' has observed.
 int KnownCount(const std::vector<HypothesisCell>& cells, const OccupancyGrid& map) {
   int known = 0;
@@ -62,7 +70,7 @@ class MazeRunTest : public ::testing::Test {
 };
 
 TEST_F(MazeRunTest, HypothesesOnlyEverCoverUnexploredCellsAndSomeMatchTheTruth) {
-  ExplorationRun run(world_, start_, ShortRunOptions(ExploreMode::kSkipPredicted, 110.0));
+  ExplorationRun run(world_, start_, NearestFirst(ShortRunOptions(ExploreMode::kSkipPredicted, 110.0)));
   int updates = 0, checked = 0;
   while (!run.done()) {
     const ExplorationStep step = run.Step();
@@ -182,13 +190,13 @@ int StepUntilAChainedPrediction(ExplorationRun& run,
 // Skip-predicted exploration plans on the merged map, and its targets lie at the edge of what is
 // predicted: the predictor reads the same map, so a prediction can carry on from predicted walls.
 TEST_F(MazeRunTest, PredictionsCarryOnFromPredictedWallsWhenPlanningOnTheMergedMap) {
-  ExplorationRun run(world_, start_, ShortRunOptions(ExploreMode::kSkipPredicted, 400.0));
+  ExplorationRun run(world_, start_, NearestFirst(ShortRunOptions(ExploreMode::kSkipPredicted, 400.0)));
   ASSERT_TRUE(run.slam().options().predict_on_merged_map);
   const int accepted = StepUntilAChainedPrediction(run);
   EXPECT_GT(accepted, 0) << "none in " << run.time() << " s";
 
   // Planning on the built map, the predictor reads it too, and never sees a predicted wall.
-  ExplorationOptions options = ShortRunOptions(ExploreMode::kSkipPredicted, 400.0);
+  ExplorationOptions options = NearestFirst(ShortRunOptions(ExploreMode::kSkipPredicted, 400.0));
   options.plan_on_merged_map = false;
   ExplorationRun on_built(world_, start_, options);
   ASSERT_FALSE(on_built.slam().options().predict_on_merged_map);
@@ -199,7 +207,7 @@ TEST_F(MazeRunTest, PredictionsCarryOnFromPredictedWallsWhenPlanningOnTheMergedM
 // ... but not from a hypothesis below predict_from_psi that observation has not confirmed.
 TEST_F(MazeRunTest, PredictionsDoNotBuildOnWeakHypotheses) {
   ExplorationOptions options = ShortRunOptions(ExploreMode::kSkipPredicted, 400.0);
-  options.slam.filter.seed = options.simulator.seed = 6;  // a run that builds on one within 400 s
+  options.slam.filter.seed = options.simulator.seed = 1;  // a run that builds on one within 400 s
   const double bar = options.slam.predict_from_psi;
   ASSERT_GT(bar, options.slam.predictor.similarity_threshold);
   const auto weak = [bar](const Hypothesis& h) { return h.psi < bar && h.status != Hypothesis::Status::kConfirmed; };
