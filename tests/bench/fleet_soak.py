@@ -175,17 +175,31 @@ def main():
             except subprocess.TimeoutExpired:
                 r.kill()
 
+        # Every session's filter catches up with what is stored, on the node that runs it.
+        ports = {n.name: n.port for n in nodes if n.alive()}
+        filters = {}
+        deadline = time.monotonic() + 180
+        while time.monotonic() < deadline:
+            filters = {}
+            for sid, lease in leases().items():
+                if lease["node_id"] in ports:
+                    st = get(ports[lease["node_id"]], f"/api/sessions/{sid}/stats")
+                    filters[sid] = (st["filter"].get("processed_seq", 0), st["ingest"]["received_seq"], st["filter"].get("scans", 0))
+            if filters and all(p == r for p, r, _ in filters.values()):
+                break
+            time.sleep(2)
+
         acked = {}
         for i in range(args.robots):
             text = open(os.path.join(state, f"robot-{i + 1}.log")).read()
             sessions = set(re.findall(r"in session (s-[0-9a-f]+)", text))
             last = re.findall(r"acked (\d+)", text)
             acked[f"robot-{i + 1}"] = (sessions, int(last[-1]) if last else 0)
-        stored = {row[0]: row for row in psql(postgres, "SELECT s.id, s.robot_id, s.status, s.processed_seq, "
+        stored = {row[0]: row for row in psql(postgres, "SELECT s.id, s.status, "
                                                          "(SELECT coalesce(max(seq), 0) FROM inputs i WHERE i.session_id = s.id), "
-                                                         "(SELECT count(*) FROM inputs i WHERE i.session_id = s.id AND kind = 2), "
-                                                         "s.scans FROM sessions s")}
-        lost = doubled = 0
+                                                         "(SELECT count(*) FROM inputs i WHERE i.session_id = s.id AND kind = 2) "
+                                                         "FROM sessions s")}
+        lost = doubled = unchecked = 0
         for robot, (sessions, last_acked) in acked.items():
             if len(sessions) != 1:
                 print(f"{robot}: {len(sessions)} sessions: {sorted(sessions)}")
@@ -193,22 +207,30 @@ def main():
                 row = stored.get(sid)
                 if not row:
                     print(f"{robot}: session {sid} not stored")
-                    continue
-                if len(sessions) == 1 and last_acked > int(row[4]):
-                    lost += last_acked - int(row[4])
-                    print(f"{robot}: acked {last_acked}, stored up to {row[4]}")
+                elif len(sessions) == 1 and last_acked > int(row[2]):
+                    lost += last_acked - int(row[2])
+                    print(f"{robot}: acked {last_acked}, stored up to {row[2]}")
         for sid, row in stored.items():
-            if row[2] == "closed" and int(row[6]) != int(row[5]):
+            f = filters.get(sid)
+            if not f or f[0] != f[1] or f[1] != int(row[2]):
+                unchecked += 1
+                print(f"session {sid}: filter not caught up with storage: {f}, stored up to {row[2]}")
+            elif f[2] != int(row[3]):
                 doubled += 1
-                print(f"session {sid}: filter scans {row[6]}, stored scans {row[5]}")
-        scans = sum(int(row[5]) for row in stored.values())
+                print(f"session {sid}: filter scans {f[2]}, stored scans {row[3]}")
+        lapsed = sum(open(os.path.join(state, f"{n.name}.log")).read().count("lost the lease") for n in nodes)
+        backlog = [int(m) for i in range(args.robots)
+                   for m in re.findall(r"spool (\d+) unacked", open(os.path.join(state, f"robot-{i + 1}.log")).read())[-1:]]
+        scans = sum(int(row[3]) for row in stored.values())
         print()
         print("| nodes | robots | minutes | kills | sessions | scans stored | acked inputs lost | sessions with scans "
-              "filtered twice or skipped | back after kill (s): median / max | lease |")
-        print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+              "filtered twice or skipped (not checked) | back after kill (s): median / max | leases lapsed on live nodes | "
+              "robots' backlog at the end (max) | lease |")
+        print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
         backs.sort()
-        print(f"| {args.nodes} | {args.robots} | {args.minutes:g} | {victim} | {len(stored)} | {scans} | {lost} | {doubled} | "
-              f"{backs[len(backs) // 2] if backs else float('nan'):.1f} / {backs[-1] if backs else float('nan'):.1f} | {args.lease} s |")
+        print(f"| {args.nodes} | {args.robots} | {args.minutes:g} | {victim} | {len(stored)} | {scans} | {lost} | {doubled} ({unchecked}) | "
+              f"{backs[len(backs) // 2] if backs else float('nan'):.1f} / {backs[-1] if backs else float('nan'):.1f} | {lapsed} | "
+              f"{max(backlog) if backlog else 0} | {args.lease} s |")
         if scans:
             print(f"\ncoordination and storage per scan stored (all nodes): PostgreSQL {coordination['pg_bytes'] / scans:.0f} B, "
                   f"Redis {coordination['redis_bytes'] / scans:.0f} B; node CPU {1000 * coordination['cpu_s'] / scans:.1f} ms "

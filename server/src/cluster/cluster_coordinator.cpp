@@ -30,7 +30,8 @@ Result<std::unique_ptr<ClusterCoordinator>> ClusterCoordinator::Start(ClusterOpt
     c->repo_.Leave(c->options_.node_id);
     c->repo_.Heartbeat(c->options_.node_id, c->options_.address, c->hooks_.load());
     c->last_renewal_ = Clock::now();
-    c->thread_ = std::thread([raw = c.get()] { raw->Loop(); });
+    c->ticker_ = std::thread([raw = c.get()] { raw->TickLoop(); });
+    c->worker_ = std::thread([raw = c.get()] { raw->WorkLoop(); });
     return c;
   } catch (const std::exception& e) {
     return Error{std::string("cluster: ") + e.what()};
@@ -45,7 +46,8 @@ void ClusterCoordinator::Stop() {
     stopping_ = true;
   }
   wake_.notify_all();
-  if (thread_.joinable()) thread_.join();
+  if (ticker_.joinable()) ticker_.join();
+  if (worker_.joinable()) worker_.join();
 }
 
 void ClusterCoordinator::Leave() {
@@ -66,27 +68,29 @@ void ClusterCoordinator::Post(std::function<void(ClusterCoordinator&)> work) {
   wake_.notify_all();
 }
 
-void ClusterCoordinator::Loop() {
+void ClusterCoordinator::TickLoop() {
   // Five renewals per lease: a lease survives a few slow or failed ones.
   const auto period = std::chrono::duration_cast<Clock::duration>(Seconds(std::max(0.1, options_.lease_seconds / 5)));
-  auto next_tick = Clock::now() + period;
+  std::unique_lock lock(mutex_);
+  while (!wake_.wait_for(lock, period, [&] { return stopping_; })) {
+    lock.unlock();
+    Tick();
+    lock.lock();
+  }
+}
+
+void ClusterCoordinator::WorkLoop() {
   std::unique_lock lock(mutex_);
   while (true) {
-    wake_.wait_until(lock, next_tick, [&] { return stopping_ || !work_.empty(); });
+    wake_.wait(lock, [&] { return stopping_ || !work_.empty(); });
     if (stopping_) return;
-    auto work = std::move(work_);
-    work_.clear();
+    auto job = std::move(work_.front());
+    work_.pop_front();
     lock.unlock();
-    for (auto& job : work) {
-      try {
-        job(*this);
-      } catch (const std::exception& e) {
-        std::cerr << "cluster: " << e.what() << "\n";
-      }
-    }
-    if (Clock::now() >= next_tick) {
-      Tick();
-      next_tick = Clock::now() + period;
+    try {
+      job(*this);
+    } catch (const std::exception& e) {
+      std::cerr << "cluster: " << e.what() << "\n";
     }
     lock.lock();
   }
@@ -148,7 +152,7 @@ void ClusterCoordinator::RenewOrFence() {
   }
   for (const auto& id : lost) {
     std::cerr << "cluster: lost the lease of session " << id << ", stopping it here\n";
-    hooks_.lost(id);
+    Post([id](ClusterCoordinator& c) { c.hooks_.lost(id); });
   }
 }
 
@@ -201,7 +205,7 @@ void ClusterCoordinator::AdoptOrphans() {
     }
     if (running_here) continue;
     std::cerr << "cluster: took over session " << id << " (lease epoch " << epoch << ")\n";
-    hooks_.adopt(id, epoch);
+    Post([id, epoch](ClusterCoordinator& c) { c.hooks_.adopt(id, epoch); });
   }
 }
 

@@ -2,8 +2,10 @@
 // One node of a fleet that shares a PostgreSQL database (docs/fleet.md). A session runs on the one
 // node that holds its lease; this node heartbeats, renews its leases, lets go of a session whose
 // lease it lost, and takes over sessions nobody runs (their owner died, or left) when placement
-// picks it: the least loaded live node. Every database round trip happens on the coordinator's own
-// thread and connection; callers post work to it and never block a network thread.
+// picks it: the least loaded live node. Two threads: one only heartbeats, renews and looks for
+// orphans, so nothing slow can let a lease lapse; the other runs posted work (an agent's claim)
+// and the hooks, which rebuild or stop sessions and may wait for storage. Neither is a network
+// thread.
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -85,7 +87,7 @@ class ClusterCoordinator {
   ClusterCoordinator(const ClusterCoordinator&) = delete;
   ClusterCoordinator& operator=(const ClusterCoordinator&) = delete;
 
-  // Runs 'work' on the coordinator thread (in order with its ticks).
+  // Runs 'work' on the coordinator's work thread, in order with the hooks.
   void Post(std::function<void(ClusterCoordinator&)> work);
 
   // ---- On the coordinator thread (inside Post) or REST worker threads; they reach the database. ----
@@ -121,7 +123,8 @@ class ClusterCoordinator {
 
  private:
   ClusterCoordinator(ClusterOptions options, Database db, Hooks hooks);
-  void Loop();
+  void TickLoop();
+  void WorkLoop();
   void Tick();
   void RenewOrFence();
   void AdoptOrphans();
@@ -145,7 +148,7 @@ class ClusterCoordinator {
   std::map<std::string, std::chrono::steady_clock::time_point> orphan_since_;
   std::chrono::steady_clock::time_point last_renewal_;
   bool stopping_ = false;
-  std::thread thread_;
+  std::thread ticker_, worker_;
 };
 
 }  // namespace pslam::server
