@@ -181,10 +181,11 @@ def main():
         deadline = time.monotonic() + 180
         while time.monotonic() < deadline:
             filters = {}
-            for sid, lease in leases().items():
-                if lease["node_id"] in ports:
-                    st = get(ports[lease["node_id"]], f"/api/sessions/{sid}/stats")
-                    filters[sid] = (st["filter"].get("processed_seq", 0), st["ingest"]["received_seq"], st["filter"].get("scans", 0))
+            owners = {sid: l["node_id"] for sid, l in leases().items()}
+            for (sid,) in psql(postgres, "SELECT id FROM sessions"):
+                # A running session's live figures on its node; a closed one's final checkpoint on any.
+                st = get(ports.get(owners.get(sid), live_port()), f"/api/sessions/{sid}/stats")
+                filters[sid] = (st["filter"].get("processed_seq", 0), st["ingest"]["received_seq"], st["filter"].get("scans", 0))
             if filters and all(p == r for p, r, _ in filters.values()):
                 break
             time.sleep(2)
