@@ -55,28 +55,6 @@ std::map<std::string, std::vector<std::string>> SessionsByNode(unsigned short po
   return out;
 }
 
-struct PostResult {
-  int status = 0;
-  std::string location;
-};
-
-PostResult Post(unsigned short port, const std::string& target) {
-  namespace beast = boost::beast;
-  namespace http = beast::http;
-  boost::asio::io_context ioc;
-  beast::tcp_stream stream(ioc);
-  stream.connect(boost::asio::ip::tcp::endpoint(boost::asio::ip::make_address("127.0.0.1"), port));
-  http::request<http::string_body> req{http::verb::post, target, 11};
-  req.set(http::field::host, "127.0.0.1");
-  req.set(http::field::authorization, std::string("Bearer ") + kAgentToken);
-  req.prepare_payload();
-  http::write(stream, req);
-  beast::flat_buffer buffer;
-  http::response<http::string_body> res;
-  http::read(stream, buffer, res);
-  return {static_cast<int>(res.result_int()), std::string(res[http::field::location])};
-}
-
 AgentOptions SimOptions(const std::string& servers, const std::filesystem::path& spool) {
   const ParsedOptions parsed = ParseAgentOptions({"--server", servers, "--token", kAgentToken, "--source", "sim",
                                                   "--spool", spool.string(), "--no-drive", "--rate", "2"});
@@ -121,9 +99,10 @@ TEST(FleetTest, NewSessionsArePlacedOnTheLeastLoadedNodeAndAgentsFollowTheRedire
   EXPECT_EQ(GetJson(b.port(), "/api/sessions/" + first)["status"], "active");
 
   // A write to a session another node runs is redirected there.
-  const PostResult close = Post(b.port(), "/api/sessions/" + first + "/close");
-  EXPECT_EQ(close.status, 307);
-  EXPECT_EQ(close.location, "http://" + Address(a) + "/api/sessions/" + first + "/close");
+  const auto close = testing::Request(b.port(), boost::beast::http::verb::post, "/api/sessions/" + first + "/close",
+                                      kAgentToken);
+  EXPECT_EQ(close.result_int(), 307u);
+  EXPECT_EQ(close[boost::beast::http::field::location], "http://" + Address(a) + "/api/sessions/" + first + "/close");
 
   // The simulator's agents close their sessions as they stop; the second one asks node A, which
   // sends it on to node B.

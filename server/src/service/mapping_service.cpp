@@ -403,19 +403,24 @@ void MappingService::Adopt(const std::string& id, std::int64_t lease_epoch) {
 void MappingService::Abandon(const std::string& id) {
   const auto rt = TakeRunning(id);
   if (!rt) return;
-  std::shared_ptr<AgentLink> agent;
-  {
-    std::lock_guard lock(rt->mutex);
-    rt->closing = true;
-    agent = rt->agent.lock();
-    rt->agent.reset();
-    rt->progress.notify_all();
-  }
-  // The agent reconnects and is sent to the new owner, which resends it every unacknowledged input.
-  if (agent) agent->Disconnect("moved", "another node runs the session now; reconnect");
-  rt->engine->Abort();  // no checkpoint: the new owner writes the session from here on
+  // The agent reconnects and is sent to the new owner, which resends it every unacknowledged
+  // input; no checkpoint: the new owner writes the session from here on.
+  StopWithoutCheckpoint(*rt, "moved", "another node runs the session now; reconnect");
   LogEvent(id, "lease_lost", {});
   if (end_sink_) end_sink_(id, "moved");
+}
+
+void MappingService::StopWithoutCheckpoint(SessionRuntime& rt, const std::string& code, const std::string& why) {
+  std::shared_ptr<AgentLink> agent;
+  {
+    std::lock_guard lock(rt.mutex);
+    rt.closing = true;
+    agent = rt.agent.lock();
+    rt.agent.reset();
+    rt.progress.notify_all();
+  }
+  if (agent) agent->Disconnect(code, why);
+  rt.engine->Abort();
 }
 
 void MappingService::ReleaseLease(const std::string& id) {
@@ -696,16 +701,7 @@ SessionRow MappingService::CloseSession(const std::string& id, const std::string
 
 void MappingService::DeleteSession(const std::string& id) {
   if (const auto rt = TakeRunning(id)) {
-    std::shared_ptr<AgentLink> agent;
-    {
-      std::lock_guard lock(rt->mutex);
-      rt->closing = true;
-      agent = rt->agent.lock();
-      rt->agent.reset();
-      rt->progress.notify_all();
-    }
-    if (agent) agent->Disconnect("closed", "the session was deleted");
-    rt->engine->Abort();
+    StopWithoutCheckpoint(*rt, "closed", "the session was deleted");
     ReleaseLease(id);
   } else {
     ThrowIfElsewhere(id);

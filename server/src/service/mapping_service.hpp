@@ -170,6 +170,9 @@ class MappingService {
   // A fleet node: throws ApiError 307 if another live node runs the session.
   void ThrowIfElsewhere(const std::string& id);
   void ReleaseLease(const std::string& id);
+  // A session taken out of running_ stops at once: its agent is told why ('code') and let go,
+  // its engine stops without a checkpoint (deleted, or another node runs it now).
+  void StopWithoutCheckpoint(SessionRuntime& rt, const std::string& code, const std::string& why);
   // Checks the site a session names and, in localize mode, loads the site's map (its latest version
   // unless the settings name one; the settings then name the version loaded and take its
   // resolution). Throws ApiError 400 for a missing site or map.
