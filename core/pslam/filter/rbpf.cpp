@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <stdexcept>
 
 #include "pslam/common/random.hpp"
 #include "pslam/filter/resampling.hpp"
 #include "pslam/grid/grid_transform.hpp"
+#include "pslam/grid/prior_map.hpp"
 #include "pslam/matching/scan_likelihood.hpp"
 #include "pslam/matching/scan_matcher.hpp"
 
@@ -14,6 +16,9 @@ namespace pslam {
 
 Rbpf::Rbpf(const RbpfOptions& options)
     : options_(options), inserter_(options.insert), pool_(options.threads) {
+  if (options_.prior_map && std::abs(options_.prior_map->resolution() - options_.resolution) > 1e-9) {
+    throw std::invalid_argument("the prior map's resolution differs from the filter's");
+  }
   if (options_.loop_closure.enabled) {
     loop_closer_ = std::make_unique<LoopCloser>(options_.loop_closure, options_.insert, options_.resolution, &pool_);
   }
@@ -55,6 +60,11 @@ void Rbpf::Initialize(const LaserScan& scan) {
   Particle first{options_.initial_pose, 0.0, OccupancyGrid(options_.resolution, options_.grid),
                  OccupancyGrid(options_.resolution, options_.grid),
                  std::make_shared<TrajectoryNode>(TrajectoryNode{options_.initial_pose, 0, nullptr}), {}};
+  if (options_.prior_map) {
+    // Copies share the prior's tiles: a particle pays only for the tiles it changes.
+    first.map = CapPriorConfidence(*options_.prior_map, options_.prior_max_probability);
+    if (loop_closer_) loop_closer_->SetBaseMap(first.map);
+  }
   inserter_.Insert(points, first.pose, first.map);
   particles_.assign(static_cast<std::size_t>(std::max(1, options_.particles)), first);
   odometry_at_update_ = scan.odometry;

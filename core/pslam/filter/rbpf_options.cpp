@@ -11,6 +11,7 @@ const OptionTable<RbpfOptions>& Setters() {
       {"seed", Option(&RbpfOptions::seed)},
       {"resolution", Option(&RbpfOptions::resolution)},
       {"linear_update", Option(&RbpfOptions::linear_update)},
+      {"prior_max_probability", Option(&RbpfOptions::prior_max_probability)},
       {"angular_update", Option(&RbpfOptions::angular_update)},
       {"resample_threshold", Option(&RbpfOptions::resample_threshold)},
       {"likelihood_temperature", Option(&RbpfOptions::likelihood_temperature)},

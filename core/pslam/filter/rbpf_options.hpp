@@ -1,6 +1,7 @@
 #pragma once
 // Every tunable of the particle filter, with its default, in one place.
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,12 @@ struct RbpfOptions {
   double resolution = 0.05;           // metres per cell
   GridLimits grid;                    // bounds of every particle's grids
   Pose2D initial_pose;                // pose of the first scan in the map frame
+  // Extend mode: every particle's map starts as this map of an earlier session (its tiles shared
+  // until a particle writes them), the first scan taken at initial_pose in its frame; null starts
+  // from nothing. Its cells' confidence is capped at prior_max_probability (prior_map.hpp), so that
+  // a few scans of a changed area overwrite it; >= 1 keeps the prior as it is.
+  std::shared_ptr<const OccupancyGrid> prior_map;
+  double prior_max_probability = 0.75;
   // The filter updates once the tracked motion since the last update exceeds either threshold;
   // scans in between are tracked against the best map only (stabilised odometry).
   double linear_update = 0.25;        // metres

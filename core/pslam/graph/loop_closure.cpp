@@ -268,7 +268,7 @@ std::optional<LoopClosureCorrection> LoopCloser::Optimize(int n) {
 }
 
 OccupancyGrid LoopCloser::Render() const {
-  OccupancyGrid map(resolution_);
+  OccupancyGrid map = base_ ? *base_ : OccupancyGrid(resolution_);
   for (int k = 0; k < graph_.size(); ++k) inserter_.Insert(nodes_[static_cast<std::size_t>(k)].points, graph_.pose(k), map);
   return map;
 }

@@ -52,6 +52,9 @@ class LoopCloser {
   // Optimises the closures found since the last optimisation (at the end of a log).
   std::optional<LoopClosureCorrection> Flush();
 
+  // The map that corrected maps are rendered on top of (a prior map in extend mode).
+  void SetBaseMap(const OccupancyGrid& base) { base_ = base; }
+
   const LoopClosureStats& stats() const { return stats_; }
   const PoseGraph& graph() const { return graph_; }
 
@@ -84,6 +87,7 @@ class LoopCloser {
   LoopClosureOptions options_;
   ScanInserter inserter_;
   double resolution_;
+  std::optional<OccupancyGrid> base_;
   ThreadPool* pool_;
   PoseGraph graph_;
   std::vector<Node> nodes_;
