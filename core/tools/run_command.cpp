@@ -12,6 +12,7 @@
 
 #include "cli_args.hpp"
 #include "commands.hpp"
+#include "experiment_common.hpp"
 #include "pslam/eval/trajectory_io.hpp"
 #include "pslam/experiment/log_run.hpp"
 #include "hypotheses_json.hpp"
@@ -29,7 +30,7 @@ constexpr const char* kUsage =
     "                 [--map OUT_PREFIX] [--processed-trajectory OUT.txt] [--strict] [--quiet]\n"
     "                 [--raw-odometry] [--no-predict] [--no-recovery] [--similarity-threshold PSI]\n"
     "                 [--prediction-range M] [--hypotheses OUT.json] [--merged-map OUT_PREFIX]\n"
-    "                 [--set NAME=VALUE ...]\n"
+    "                 [--prior-map MAP.yaml --initial-pose X,Y,THETA] [--set NAME=VALUE ...]\n"
     "  Maps a CARMEN log. --map writes OUT_PREFIX.pgm, .yaml and .png; --trajectory writes one line\n"
     "  'timestamp x y theta' per laser scan of the log; --processed-trajectory only the scans at which\n"
     "  the filter updated. --strict stops at the first corrupt line\n"
@@ -41,7 +42,10 @@ constexpr const char* kUsage =
     "  P-SLAM predicts the structure ahead of the robot (the target is the frontier it heads toward)\n"
     "  and weighs particles with the predictions; --no-predict runs the plain RBPF, --no-recovery\n"
     "  keeps predictions in use even when hit ratios say they are wrong. --hypotheses writes every\n"
-    "  hypothesis as JSON, --merged-map the map with the predictions not refuted merged in.\n";
+    "  hypothesis as JSON, --merged-map the map with the predictions not refuted merged in.\n"
+    "  --prior-map extends a map_server map: every particle starts from it, the first scan at\n"
+    "  --initial-pose (its frame), and what the log sees overwrites what changed (the prior's\n"
+    "  confidence is capped at --set prior_max_probability=P, default 0.75; 1 keeps it).\n";
 
 double PeakRssMiB() {
   rusage usage{};
@@ -117,6 +121,13 @@ int RunRunCommand(const std::vector<std::string>& args) {
   const bool strict = cli.Flag("--strict");
   const bool raw_odometry = cli.Flag("--raw-odometry");
   const bool quiet = cli.Flag("--quiet");
+  const auto prior_path = cli.Value("--prior-map");
+  if (const auto text = cli.Value("--initial-pose")) {
+    const auto pose = ParsePose(*text);
+    if (!pose) cli.AddError("--initial-pose needs X,Y,THETA (metres, radians), got '" + *text + "'");
+    else options.initial_pose = *pose;
+    if (!prior_path) cli.AddError("--initial-pose is for --prior-map (a new map starts at the origin)");
+  }
   DivergenceOptions divergence;
   for (const std::string& assignment : cli.Values("--set")) {
     const auto eq = assignment.find('=');
@@ -144,6 +155,11 @@ int RunRunCommand(const std::vector<std::string>& args) {
   }
 
   try {
+    if (prior_path) {
+      auto prior = std::make_shared<OccupancyGrid>(LoadMap(*prior_path));
+      options.resolution = prior->resolution();
+      options.prior_map = std::move(prior);
+    }
     CarmenReader reader(*log_path, CarmenReaderOptions{.strict = strict, .repair_reversed_odometry = !raw_odometry});
     ScanStream scans(reader);
     PSlam slam(pslam_options);
