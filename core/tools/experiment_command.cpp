@@ -17,6 +17,7 @@ constexpr const char* kUsage =
     "  particles    P-SLAM vs the plain RBPF on the Intel log: KL of eq. 24 and relative pose error\n"
     "  latency      time of one prediction as the map grows\n"
     "  localize     Monte Carlo localization of a simulated robot on its world's map\n"
+    "  extend       extending a first map on a world whose walls moved since (lifelong mapping)\n"
     "Run 'pslam experiment NAME --help' for the options of one.\n";
 
 }  // namespace
@@ -29,6 +30,7 @@ int RunExperimentCommand(const std::vector<std::string>& args) {
   if (name == "particles") return RunParticlesExperiment(cli);
   if (name == "latency") return RunLatencyExperiment(cli);
   if (name == "localize") return RunLocalizeExperiment(cli);
+  if (name == "extend") return RunExtendExperiment(cli);
   const bool help = name.empty() || name == "--help" || name == "-h";
   if (!help) std::fprintf(stderr, "unknown experiment '%s'\n", name.c_str());
   std::fprintf(help ? stdout : stderr, "%s", kUsage);

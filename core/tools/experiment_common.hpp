@@ -21,6 +21,7 @@ int RunHypothesesExperiment(CliArgs& cli);
 int RunParticlesExperiment(CliArgs& cli);
 int RunLatencyExperiment(CliArgs& cli);
 int RunLocalizeExperiment(CliArgs& cli);
+int RunExtendExperiment(CliArgs& cli);
 
 // "X,Y,THETA" (metres, radians); nullopt when malformed.
 std::optional<Pose2D> ParsePose(const std::string& text);

@@ -21,8 +21,8 @@ double CpuSeconds(clockid_t clock) {
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
-// A path from 'from' to a random traversable cell at least a few metres away; empty when none
-// was found in a bounded number of tries.
+}  // namespace
+
 std::vector<Eigen::Vector2d> RandomRoute(const PlanningGrid& grid, const Eigen::Vector2d& from, std::mt19937_64& rng) {
   std::uniform_int_distribution<std::size_t> pick(0, grid.size() - 1);
   for (int attempt = 0; attempt < 200; ++attempt) {
@@ -33,8 +33,6 @@ std::vector<Eigen::Vector2d> RandomRoute(const PlanningGrid& grid, const Eigen::
   }
   return {};
 }
-
-}  // namespace
 
 LocalizationTourResult RunLocalizationTour(const World& world, const OccupancyGrid& map, const Pose2D& start,
                                            const LocalizationTourOptions& o) {

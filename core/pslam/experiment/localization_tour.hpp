@@ -8,7 +8,10 @@
 #include <optional>
 #include <vector>
 
+#include <random>
+
 #include "pslam/common/pose2d.hpp"
+#include "pslam/explore/planning_grid.hpp"
 #include "pslam/filter/rbpf_options.hpp"
 #include "pslam/grid/occupancy_grid.hpp"
 #include "pslam/localize/mcl_options.hpp"
@@ -52,6 +55,10 @@ struct LocalizationTourResult {
   double mapping_cpu_ms_per_scan = 0.0;     // 0 unless measure_mapping
   int min_particles = 0, max_particles = 0;
 };
+
+// A path from 'from' to a random traversable cell at least a few metres away; empty when none
+// was found in a bounded number of tries. How the simulated tours drive.
+std::vector<Eigen::Vector2d> RandomRoute(const PlanningGrid& grid, const Eigen::Vector2d& from, std::mt19937_64& rng);
 
 // Throws std::invalid_argument when 'start' (or the kidnap pose) is not free in 'world'.
 LocalizationTourResult RunLocalizationTour(const World& world, const OccupancyGrid& map, const Pose2D& start,
