@@ -4,6 +4,8 @@
 #include <cmath>
 #include <random>
 
+#include "pslam/sim/flood_fill.hpp"
+
 namespace pslam {
 namespace {
 
@@ -47,6 +49,62 @@ std::vector<Piece> FindPieces(const World& w, bool along_x, int len) {
   return pieces;
 }
 
+// A free-standing obstacle: its cells, each 4-connected to the others.
+struct Block {
+  std::vector<Eigen::Vector2i> cells;
+  CellBox box;
+};
+
+std::vector<Block> FindBlocks(const World& w) {
+  const CellBox& b = w.bounds();
+  std::vector<bool> seen(static_cast<std::size_t>(b.width()) * static_cast<std::size_t>(b.height()), false);
+  std::vector<Block> blocks;
+  const auto occupied = [&](const Eigen::Vector2i& c) { return w.IsOccupied(c); };
+  for (int y = b.min.y(); y <= b.max.y(); ++y) {
+    for (int x = b.min.x(); x <= b.max.x(); ++x) {
+      const Eigen::Vector2i start(x, y);
+      if (!w.IsOccupied(start) || seen[BoundsIndex(w, start)]) continue;
+      const std::vector<bool> mask = FloodFill4(w, start, occupied);
+      Block block;
+      bool touches_unknown = false;
+      for (int yy = b.min.y(); yy <= b.max.y(); ++yy) {
+        for (int xx = b.min.x(); xx <= b.max.x(); ++xx) {
+          const Eigen::Vector2i c(xx, yy);
+          if (!mask[BoundsIndex(w, c)]) continue;
+          seen[BoundsIndex(w, c)] = true;
+          block.cells.push_back(c);
+          block.box.Extend(c);
+          for (const Eigen::Vector2i& d : {Eigen::Vector2i(1, 0), Eigen::Vector2i(-1, 0), Eigen::Vector2i(0, 1), Eigen::Vector2i(0, -1)}) {
+            touches_unknown |= w.At(c + d) == WorldCell::kUnknown;
+          }
+        }
+      }
+      if (!touches_unknown) blocks.push_back(std::move(block));
+    }
+  }
+  return blocks;
+}
+
+// Moves the block by 'd' if its new place and 'clearance' cells around it are free (or its own).
+bool MoveBlock(World& w, const Block& block, const Eigen::Vector2i& d, int clearance) {
+  for (const Eigen::Vector2i& c : block.cells) {
+    if (!w.IsOccupied(c)) return false;  // an earlier move changed it
+  }
+  const auto own = [&](const Eigen::Vector2i& c) {
+    return c.x() >= block.box.min.x() && c.y() >= block.box.min.y() && c.x() <= block.box.max.x() &&
+           c.y() <= block.box.max.y() && w.IsOccupied(c);
+  };
+  for (int y = block.box.min.y() + d.y() - clearance; y <= block.box.max.y() + d.y() + clearance; ++y) {
+    for (int x = block.box.min.x() + d.x() - clearance; x <= block.box.max.x() + d.x() + clearance; ++x) {
+      const Eigen::Vector2i c(x, y);
+      if (!w.IsFree(c) && !own(c)) return false;
+    }
+  }
+  for (const Eigen::Vector2i& c : block.cells) w.Set(c, WorldCell::kFree);
+  for (const Eigen::Vector2i& c : block.cells) w.Set(c + d, WorldCell::kOccupied);
+  return true;
+}
+
 CellBox Box(const Piece& p, int dv) {
   CellBox box;
   box.Extend(Cell(p.along_x, p.u0, p.v0 + dv));
@@ -65,13 +123,34 @@ World MoveWalls(const World& world, const Eigen::Vector2d& keep_free, const Wall
   std::vector<Piece> pieces = FindPieces(world, true, len);
   const std::vector<Piece> vertical = FindPieces(world, false, len);
   pieces.insert(pieces.end(), vertical.begin(), vertical.end());
+  const std::vector<Block> blocks = FindBlocks(world);
+  // Candidates: pieces by index, then blocks (index - pieces.size()), in an order fixed by the seed.
+  std::vector<std::size_t> order(pieces.size() + blocks.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::mt19937_64 rng(o.seed);
-  std::shuffle(pieces.begin(), pieces.end(), rng);
+  std::shuffle(order.begin(), order.end(), rng);
 
   World out = world;
   int moved = 0;
-  for (const Piece& p : pieces) {
+  for (const std::size_t index : order) {
     if (moved >= o.count) break;
+    if (index >= pieces.size()) {
+      const Block& block = blocks[index - pieces.size()];
+      const Eigen::Vector2d centre = (block.box.min + block.box.max).cast<double>() * 0.5 * res;
+      if ((centre - keep_free).norm() < o.keep_away + o.shift + 0.5 * block.box.width() * res) continue;
+      for (const Eigen::Vector2i& d : {Eigen::Vector2i(shift, 0), Eigen::Vector2i(-shift, 0), Eigen::Vector2i(0, shift),
+                                       Eigen::Vector2i(0, -shift)}) {
+        if (!MoveBlock(out, block, d, clearance)) continue;
+        CellBox to = block.box;
+        to.min += d;
+        to.max += d;
+        if (moves) moves->push_back({block.box, to});
+        ++moved;
+        break;
+      }
+      continue;
+    }
+    const Piece& p = pieces[index];
     const CellBox from = Box(p, 0);
     const Eigen::Vector2d centre = (from.min + from.max).cast<double>() * 0.5 * res;
     if ((centre - keep_free).norm() < o.keep_away + o.shift) continue;

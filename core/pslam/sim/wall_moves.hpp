@@ -1,7 +1,7 @@
 #pragma once
-// A world as it might look some weeks later: a few straight pieces of interior wall (partitions,
-// cupboards) moved sideways into the room next to them. Deterministic for a seed, so that the
-// changed world of an experiment is the same on every machine.
+// A world as it might look some weeks later: a few straight pieces of interior wall (partitions)
+// or free-standing obstacles (furniture, the maze's blocks) moved sideways. Deterministic for a
+// seed, so that the changed world of an experiment is the same on every machine.
 #include <cstdint>
 #include <vector>
 
@@ -11,7 +11,7 @@
 namespace pslam {
 
 struct WallMoveOptions {
-  int count = 3;                 // pieces to move
+  int count = 3;                 // pieces and obstacles to move
   double length = 1.5;           // m, along the wall
   double shift = 1.0;            // m, sideways
   double clearance = 0.7;        // m of free space kept beyond the piece's new place (a passage)
@@ -20,12 +20,13 @@ struct WallMoveOptions {
 };
 
 struct WallMove {
-  CellBox from, to;              // the piece's cells before and after
+  CellBox from, to;              // the bounds of the cells moved, before and after
 };
 
 // Interior wall pieces are straight runs of 'length' with free space on both sides all along,
-// at most 0.3 m thick; each moves by 'shift' to the side where the target, its clearance and a
-// margin around it are free. Fewer than 'count' moves when fewer pieces qualify.
+// at most 0.3 m thick; free-standing obstacles are occupied components that touch no unknown cell
+// (the outer walls do). Each moves by 'shift' to a side where its new place, with 'clearance'
+// around it, is free. Fewer than 'count' moves when fewer candidates qualify.
 World MoveWalls(const World& world, const Eigen::Vector2d& keep_free, const WallMoveOptions& options,
                 std::vector<WallMove>* moves = nullptr);
 
