@@ -27,6 +27,7 @@ class FixedMapLocalization {
   RbpfStep Add(const LaserScan& scan);
 
   const OccupancyGrid& map() const { return *map_; }
+  const std::shared_ptr<const OccupancyGrid>& shared_map() const { return map_; }
   const std::vector<Pose2D>& particles() const { return mcl_.particles(); }
   std::vector<double> weights() const { return mcl_.weights(); }
   const std::vector<Pose2D>& trajectory() const { return trajectory_; }

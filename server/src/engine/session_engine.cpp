@@ -290,7 +290,7 @@ EngineStats SessionEngine::CurrentStats() const {
   s.mapped_m2 = e.mapped_m2;
   s.predicted_m2 = e.predicted_m2;
   s.predicted_frontiers = e.predicted_frontiers;
-  s.mode = settings_.mode;
+  s.mode = pipeline_->phase();
   if (pipeline_->localizing()) s.localization = pipeline_->localization();
   const PSlamStats p = pipeline_->pslam_stats();
   s.targets = p.targets;

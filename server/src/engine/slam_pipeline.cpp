@@ -89,9 +89,12 @@ PSlamOptions ToPSlamOptions(const SessionSettings& settings) {
 
 SlamPipeline::SlamPipeline(const SessionSettings& settings, const LaserGeometry& laser, std::function<void()> plan_ready,
                            std::shared_ptr<const OccupancyGrid> fixed_map)
-    : settings_(settings), laser_(laser), slam_(ToPSlamOptions(settings)), divergence_(settings.particles) {
-  if (settings_.mode == "localize") {
-    if (!fixed_map) throw std::invalid_argument("localize mode needs the site's map");
+    : settings_(settings),
+      laser_(laser),
+      slam_(std::make_unique<PSlam>(ToPSlamOptions(settings))),
+      divergence_(settings.particles) {
+  if (settings_.mode == "localize" || settings_.mode == "extend") {
+    if (!fixed_map) throw std::invalid_argument(settings_.mode + " mode needs the site's map");
     localization_ = std::make_unique<FixedMapLocalization>(std::move(fixed_map), ToMclOptions(settings_),
                                                            settings_.initial_pose);
   }
@@ -99,21 +102,41 @@ SlamPipeline::SlamPipeline(const SessionSettings& settings, const LaserGeometry&
 }
 
 Pose2D SlamPipeline::CurrentPose() const {
-  if (!localization_) return slam_.filter().best().pose;
+  if (!localization_) return slam_->filter().best().pose;
   const auto& trajectory = localization_->trajectory();
   return trajectory.empty() ? Pose2D() : trajectory.back();
 }
 
 int SlamPipeline::particle_count() const {
-  return static_cast<int>(localization_ ? localization_->particles().size() : slam_.filter().particles().size());
+  return static_cast<int>(localization_ ? localization_->particles().size() : slam_->filter().particles().size());
 }
 
 std::vector<Pose2D> SlamPipeline::Trajectory() const {
-  return localization_ ? localization_->trajectory() : slam_.filter().Trajectory();
+  if (localization_) return localization_->trajectory();
+  std::vector<Pose2D> poses = localized_trajectory_;
+  const std::vector<Pose2D> mapped = slam_->filter().Trajectory();
+  poses.insert(poses.end(), mapped.begin(), mapped.end());
+  return poses;
+}
+
+std::string SlamPipeline::phase() const {
+  if (settings_.mode != "extend") return settings_.mode;
+  return localization_ ? "extend_localize" : "extend_map";
+}
+
+void SlamPipeline::StartMapping(const Pose2D& pose) {
+  PSlamOptions options = ToPSlamOptions(settings_);
+  options.filter.prior_map = localization_->shared_map();
+  options.filter.initial_pose = pose;
+  slam_ = std::make_unique<PSlam>(options);
+  // The scan that localized is the mapping filter's first: its pose comes from there.
+  localized_trajectory_ = localization_->trajectory();
+  localized_trajectory_.pop_back();
+  localization_.reset();
 }
 
 void SlamPipeline::CheckMemory() const {
-  const Rbpf& filter = slam_.filter();
+  const Rbpf& filter = slam_->filter();
   const auto mib = [](double bytes) { return std::to_string(static_cast<long long>(bytes / (1 << 20))) + " MiB"; };
   const std::string limit = std::to_string(settings_.memory_limit_mb) + " MiB";
   if (filter.RefusedMapWrites() > 0) {
@@ -154,22 +177,26 @@ PipelineStep SlamPipeline::Add(const InputRecord& input) {
   step.scan = std::make_shared<const LaserScan>(ToLaserScan(input, laser_));
   if (localization_) {
     step.filter = localization_->Add(*step.scan);
-    if (planner_) {
-      WatchProgress(input.t, step);
-      step.target = TakePlan();
-      MaybeRequestPlan(input.t);
+    if (settings_.mode == "extend" && localization_->status().localized) {
+      StartMapping(step.filter.pose);
+    } else {
+      if (planner_) {
+        WatchProgress(input.t, step);
+        step.target = TakePlan();
+        MaybeRequestPlan(input.t);
+      }
+      return step;
     }
-    return step;
   }
-  const std::size_t known = slam_.hypotheses().size();
-  PSlamStep s = slam_.AddScan(*step.scan);
+  const std::size_t known = slam_->hypotheses().size();
+  PSlamStep s = slam_->AddScan(*step.scan);
   CheckMemory();
   step.filter = s.filter;
   step.tracking_changed = divergence_.Add(s.filter, *step.scan);
   // New hypotheses (possibly taken from the predictor during this scan) and changed ones.
-  for (std::size_t i = known; i < slam_.hypotheses().size(); ++i) s.changed_hypotheses.push_back(slam_.hypotheses()[i].id);
+  for (std::size_t i = known; i < slam_->hypotheses().size(); ++i) s.changed_hypotheses.push_back(slam_->hypotheses()[i].id);
   for (const int id : s.changed_hypotheses) {
-    for (const Hypothesis& h : slam_.hypotheses()) {
+    for (const Hypothesis& h : slam_->hypotheses()) {
       if (h.id != id) continue;
       HypothesisRecord record = ToRecord(h);
       const auto [it, inserted] = record_index_.try_emplace(id, hypotheses_.size());
@@ -194,7 +221,7 @@ void SlamPipeline::MaybeRequestPlan(double time) {
   if (!near_target && time - last_plan_time_ < kReplanSeconds) return;
   if (planner_->busy()) return;  // asked again at the next input
   // Localize mode plans on the fixed map, with no predictions.
-  PlanRequest request{map(), localization_ ? PredictionCoverage(map().resolution()) : slam_.coverage(), pose,
+  PlanRequest request{map(), localization_ ? PredictionCoverage(map().resolution()) : slam_->coverage(), pose,
                       settings_.predict && !localization_, time, verify_predicted_, blacklist_};
   if (planner_->Request(std::move(request))) last_plan_time_ = time;
 }
@@ -260,7 +287,7 @@ std::optional<ExplorationTarget> SlamPipeline::TakePlan() {
     return target_;
   }
   exploration_done_ = false;
-  if (!localization_) slam_.SetTarget(plan->target->cell, plan->time);
+  if (!localization_) slam_->SetTarget(plan->target->cell, plan->time);
   ExplorationTarget t;
   t.x = plan->target->position.x();
   t.y = plan->target->position.y();
@@ -275,8 +302,8 @@ std::optional<ExplorationTarget> SlamPipeline::TakePlan() {
 std::vector<Pose2D> SlamPipeline::ParticlePoses() const {
   if (localization_) return localization_->particles();
   std::vector<Pose2D> poses;
-  poses.reserve(slam_.filter().particles().size());
-  for (const Particle& p : slam_.filter().particles()) poses.push_back(p.pose);
+  poses.reserve(slam_->filter().particles().size());
+  for (const Particle& p : slam_->filter().particles()) poses.push_back(p.pose);
   return poses;
 }
 

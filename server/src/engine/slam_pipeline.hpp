@@ -73,7 +73,10 @@ class SlamPipeline {
  public:
   // 'plan_ready' is called on the planner's thread when a plan can be taken (TakePlan). In localize
   // mode (settings.mode) 'fixed_map' is the site's map: the pipeline localizes on it and maps
-  // nothing; throws std::invalid_argument without one or for bad localization settings.
+  // nothing; throws std::invalid_argument without one or for bad localization settings. In extend
+  // mode it localizes on it the same way until the localizer says localized, then maps on from
+  // there: every particle's map starts as the site's map (RbpfOptions::prior_map), the first scan
+  // at the localized pose.
   SlamPipeline(const SessionSettings& settings, const LaserGeometry& laser, std::function<void()> plan_ready = {},
                std::shared_ptr<const OccupancyGrid> fixed_map = nullptr);
   SlamPipeline(const SlamPipeline&) = delete;
@@ -87,18 +90,22 @@ class SlamPipeline {
   std::optional<ExplorationTarget> TakePlan();
 
   // The best particle's map; in localize mode the fixed map (shown from the start).
-  const OccupancyGrid& map() const { return localization_ ? localization_->map() : slam_.filter().best().map; }
-  bool started() const { return localization_ || !slam_.filter().particles().empty(); }
-  const RbpfStats& filter_stats() const { return localization_ ? localization_->stats() : slam_.filter().stats(); }
-  PSlamStats pslam_stats() const { return slam_.stats(); }
+  const OccupancyGrid& map() const { return localization_ ? localization_->map() : slam_->filter().best().map; }
+  bool started() const { return localization_ || !slam_->filter().particles().empty(); }
+  const RbpfStats& filter_stats() const { return localization_ ? localization_->stats() : slam_->filter().stats(); }
+  PSlamStats pslam_stats() const { return slam_->stats(); }
   int particle_count() const;
   std::vector<Pose2D> ParticlePoses() const;
-  std::vector<double> Weights() const { return localization_ ? localization_->weights() : slam_.filter().Weights(); }
+  std::vector<double> Weights() const { return localization_ ? localization_->weights() : slam_->filter().Weights(); }
   // The best particle's pose at every scan so far (smoothed: see Rbpf::Trajectory); in localize
   // mode the estimate at every scan.
   std::vector<Pose2D> Trajectory() const;
-  // Localize mode only (localizing()): re-localize from a pose, and how sure the filter is.
+  // Localize mode, and extend mode until localized (localizing()): re-localize from a pose, and how
+  // sure the filter is.
   bool localizing() const { return localization_ != nullptr; }
+  // What the pipeline does now: "map", "localize", or in extend mode "extend_localize" and then
+  // "extend_map".
+  std::string phase() const;
   void SetPose(const InitialPose& pose) { localization_->SetPose(pose); }
   LocalizationStats localization() const { return localization_->status(); }
   // Whether the filter looks lost, from every scan so far.
@@ -121,11 +128,14 @@ class SlamPipeline {
   void MaybeRequestPlan(double time);
   void WatchProgress(double time, PipelineStep& step);
   void UpdateExploration(const PlanResult& plan);
+  // Extend mode, once localized at 'pose': mapping takes over from the localizer.
+  void StartMapping(const Pose2D& pose);
 
   SessionSettings settings_;
   LaserGeometry laser_;
-  PSlam slam_;                                    // unused in localize mode
-  std::unique_ptr<FixedMapLocalization> localization_;  // localize mode only
+  std::unique_ptr<PSlam> slam_;                   // unused while localizing
+  std::unique_ptr<FixedMapLocalization> localization_;  // localize mode; extend mode until localized
+  std::vector<Pose2D> localized_trajectory_;      // extend mode: the estimates before mapping took over
   DivergenceMonitor divergence_;
   std::vector<HypothesisRecord> hypotheses_;
   std::map<int, std::size_t> record_index_;       // hypothesis id -> index in hypotheses_

@@ -47,7 +47,8 @@ struct EngineStats {
   double mapped_m2 = 0.0;
   double predicted_m2 = 0.0;
   int predicted_frontiers = 0;
-  // "map" or "localize"; localization only in localize mode.
+  // "map", "localize", or the phase of an extend session: "extend_localize" (localizing on the
+  // site's map) then "extend_map" (mapping on from it); localization only while localizing.
   std::string mode = "map";
   LocalizationStats localization;
 };

@@ -43,11 +43,12 @@ struct SessionSettings {
   // parses (and validates) it, so adding a predictor tunable does not touch the server.
   std::string predictor_json = "{}";
   // "map" builds a map from nothing; "localize" runs Monte Carlo localization on a fixed map of
-  // 'site' (version 'map_version') and maps nothing.
+  // 'site' (version 'map_version') and maps nothing; "extend" localizes on it the same way, then
+  // maps on from it, and its final map becomes the site's next version when the session closes.
   std::string mode = "map";
   std::string site;                // the site the session belongs to; empty: none
-  std::int64_t map_version = 0;    // localize: the site's map version (0 in a request: its latest)
-  std::optional<InitialPose> initial_pose;  // localize: none means global localization
+  std::int64_t map_version = 0;    // localize, extend: the site's map version (0 in a request: its latest)
+  std::optional<InitialPose> initial_pose;  // localize, extend: none means global localization
   // Localization options as a JSON object of pslam/localize/mcl_options.hpp names, parsed (and
   // validated) by the engine like the predictor's.
   std::string localization_json = "{}";

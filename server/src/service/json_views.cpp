@@ -83,7 +83,7 @@ nlohmann::json EngineStatsToJson(const EngineStats& s) {
           {"predicted_m2", s.predicted_m2},
           {"predicted_frontiers", s.predicted_frontiers},
           {"mode", s.mode}};
-  if (s.mode == "localize") {
+  if (s.mode == "localize" || s.mode == "extend_localize") {
     const LocalizationStats& l = s.localization;
     j["localization"] = {{"localized", l.localized},
                          {"cluster_weight", l.cluster_weight},

@@ -10,6 +10,7 @@
 #include "service/api_error.hpp"
 #include "service/json_fields.hpp"
 #include "service/json_views.hpp"
+#include "service/extend_version.hpp"
 #include "service/site_maps.hpp"
 #include "storage/site_repository.hpp"
 
@@ -68,7 +69,7 @@ std::vector<std::string> MappingService::running_session_ids() const {
 std::shared_ptr<const OccupancyGrid> MappingService::PrepareSite(SessionSettings& settings) {
   if (settings.site.empty()) return nullptr;
   try {
-    if (settings.mode != "localize") {
+    if (settings.mode == "map") {
       auto lease = reads_.Acquire();
       if (!SiteRepository(lease->repository().database()).GetSite(settings.site)) {
         throw ApiError::NotFound("no site '" + settings.site + "'");
@@ -689,10 +690,21 @@ SessionRow MappingService::CloseSession(const std::string& id, const std::string
   writer_.Execute([](SessionRepository&) {});
   rt->engine->Finish();
   if (rt->engine->failed()) return GetSession(id);  // failed while draining: recorded as such
+  const std::optional<SiteMapRow> extended = ExtendedSiteMap(*rt);
+  std::int64_t version = 0;
   writer_.Execute([&](SessionRepository& repo) {
     repo.SetStatus(id, status, UnixNow());
     repo.AddEvent(id, "closed", nlohmann::json{{"status", status}}.dump(), UnixNow());
+    // In the same transaction: a closed extend session always left its version.
+    if (extended) version = SiteRepository(repo.database()).AddMapVersion(*extended);
   });
+  if (extended) {
+    LogEvent(std::nullopt, "site_map_added",
+             {{"site_id", extended->site_id}, {"version", version}, {"source", "session"}, {"session_id", id},
+              {"extends_version", *extended->extends_version}});
+  } else if (rt->settings.mode == "extend") {
+    LogEvent(id, "site_map_not_extended", {{"reason", "the session never localized on the site's map"}});
+  }
   TakeRunning(id);
   ReleaseLease(id);
   if (end_sink_) end_sink_(id, status);
@@ -731,8 +743,8 @@ InitialPose MappingService::SetInitialPose(const std::string& id, const nlohmann
   const auto rt = Running(id);
   if (!rt) ThrowIfElsewhere(id);
   if (!rt) throw ApiError::Conflict("session " + id + " is " + row.status + ": it localizes no more");
-  if (rt->settings.mode != "localize") {
-    throw ApiError::Conflict("session " + id + " maps (mode \"" + rt->settings.mode + "\"): only a localize session takes a pose");
+  if (rt->settings.mode == "map") {
+    throw ApiError::Conflict("session " + id + " maps (mode \"map\"): only a localize or extend session takes a pose");
   }
   rt->engine->SetInitialPose(pose);
   LogEvent(id, "initial_pose", InitialPoseToJson(pose));

@@ -53,7 +53,7 @@ SessionSettings ParseSessionSettings(const nlohmann::json& json, const SessionSe
   }
   if (const nlohmann::json* p = f.Object("predictor")) s.predictor_json = p->dump();
   if (auto v = f.String("mode")) {
-    if (*v != "map" && *v != "localize") f.Fail("mode", "must be \"map\" or \"localize\"");
+    if (*v != "map" && *v != "localize" && *v != "extend") f.Fail("mode", "must be \"map\", \"localize\" or \"extend\"");
     s.mode = *v;
   }
   if (auto v = f.String("site", 64)) s.site = *v;
@@ -64,9 +64,9 @@ SessionSettings ParseSessionSettings(const nlohmann::json& json, const SessionSe
   if (const nlohmann::json* p = f.Object("initial_pose")) s.initial_pose = ParseInitialPose(*p, where + ".initial_pose");
   if (const nlohmann::json* p = f.Object("localization")) s.localization_json = p->dump();
   f.RejectUnknown();
-  if (s.mode == "localize" && s.site.empty()) f.Fail("site", "is required in localize mode (the site whose map to localize on)");
+  if (s.mode != "map" && s.site.empty()) f.Fail("site", "is required in " + s.mode + " mode (the site whose map to localize on)");
   if (s.map_version > 0 && s.site.empty()) f.Fail("map_version", "needs a 'site'");
-  if (s.mode == "localize") {
+  if (s.mode != "map") {
     try {
       ToMclOptions(s);
     } catch (const std::exception& e) {

@@ -23,6 +23,21 @@ OccupancyGrid ParseSiteMapFiles(const std::string& yaml, const std::string& pgm,
   return std::move(*grid);
 }
 
+SiteMapRow SessionSiteMap(const std::string& session_id, const OccupancyGrid& map) {
+  const MapImage image = RenderMapImage(map);
+  SiteMapRow row;
+  row.source = "session";
+  row.session_id = session_id;
+  row.pgm = MapPgmBytes(image);
+  row.yaml = MapYamlText(image, "map.pgm");
+  row.resolution = image.resolution;
+  row.width = image.width;
+  row.height = image.height;
+  row.origin_x = image.origin.x();
+  row.origin_y = image.origin.y();
+  return row;
+}
+
 std::shared_ptr<const OccupancyGrid> LoadSiteMap(ReadPool& reads, const std::string& site_id, std::int64_t& version) {
   std::optional<SiteMapRow> row;
   {

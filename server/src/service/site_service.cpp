@@ -74,14 +74,7 @@ SiteMapRow SiteService::FromSession(const std::string& session_id) {
   }
   const MapView view = mapping_.CurrentMap(session_id);
   if (!view.grid || view.grid->KnownBounds().empty()) throw ApiError::Conflict("session " + session_id + " mapped nothing");
-  SiteMapRow row;
-  row.source = "session";
-  row.session_id = session_id;
-  const MapImage image = RenderMapImage(*view.grid);
-  row.pgm = MapPgmBytes(image);
-  row.yaml = MapYamlText(image, "map.pgm");
-  Describe(*view.grid, row);
-  return row;
+  return SessionSiteMap(session_id, *view.grid);
 }
 
 SiteMapRow SiteService::AddVersion(const std::string& site_id, const nlohmann::json& body) {
@@ -145,6 +138,7 @@ nlohmann::json SiteMapToJson(const SiteMapRow& row) {
           {"created_at", row.created_at},
           {"source", row.source},
           {"session_id", row.session_id ? nlohmann::json(*row.session_id) : nlohmann::json()},
+          {"extends_version", row.extends_version ? nlohmann::json(*row.extends_version) : nlohmann::json()},
           {"note", row.note},
           {"resolution", row.resolution},
           {"image", {{"width", row.width}, {"height", row.height}, {"origin", {row.origin_x, row.origin_y}}}}};

@@ -101,6 +101,7 @@ struct SiteMapRow {
   double created_at = 0.0;
   std::string source = "import";    // session | import
   std::optional<std::string> session_id;
+  std::optional<std::int64_t> extends_version;  // made by an extend session from this version
   std::string note;
   double resolution = 0.0;
   int width = 0, height = 0;

@@ -10,7 +10,8 @@ constexpr const char* kSiteColumns =
 SiteRow ReadSite(const Statement& s) { return {s.Text(0), s.Text(1), s.Double(2), s.Int64(3), s.Int64(4)}; }
 
 constexpr const char* kVersionColumns =
-    "site_id, version, created_at, source, session_id, note, resolution, width, height, origin_x, origin_y";
+    "site_id, version, created_at, source, session_id, note, resolution, width, height, origin_x, origin_y, "
+    "extends_version";
 
 SiteMapRow ReadVersion(const Statement& s) {
   SiteMapRow row;
@@ -25,6 +26,7 @@ SiteMapRow ReadVersion(const Statement& s) {
   row.height = s.Int(8);
   row.origin_x = s.Double(9);
   row.origin_y = s.Double(10);
+  if (!s.IsNull(11)) row.extends_version = s.Int64(11);
   return row;
 }
 
@@ -63,9 +65,9 @@ std::int64_t SiteRepository::AddMapVersion(SiteMapRow row) {
   const std::span<const std::uint8_t> pgm(reinterpret_cast<const std::uint8_t*>(row.pgm.data()), row.pgm.size());
   db_.Prepare(
          "INSERT INTO site_maps (site_id, version, created_at, source, session_id, note, resolution, width, height, "
-         "origin_x, origin_y, yaml, pgm) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)")
+         "origin_x, origin_y, extends_version, yaml, pgm) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)")
       .BindAll(row.site_id, row.version, row.created_at, row.source, row.session_id, row.note, row.resolution, row.width,
-               row.height, row.origin_x, row.origin_y, row.yaml, pgm)
+               row.height, row.origin_x, row.origin_y, row.extends_version, row.yaml, pgm)
       .Run();
   return row.version;
 }
@@ -86,8 +88,8 @@ std::optional<SiteMapRow> SiteRepository::GetMapVersion(const std::string& site_
   if (version > 0) s.Bind(2, version);
   if (!s.Step()) return std::nullopt;
   SiteMapRow row = ReadVersion(s);
-  row.yaml = s.Text(11);
-  const std::vector<std::uint8_t> pgm = s.Blob(12);
+  row.yaml = s.Text(12);
+  const std::vector<std::uint8_t> pgm = s.Blob(13);
   row.pgm.assign(pgm.begin(), pgm.end());
   return row;
 }
