@@ -106,9 +106,10 @@ link:
   --session-name NAME
   --settings JSON             mapping settings of a new session, e.g. '{"particles": 40}'
                               (schema/ws/session_settings.schema.json; the server checks them)
-  --mode map|localize         map (default), or localize on a site's map (needs --site)
+  --mode map|localize|extend  map (default), localize on a site's map, or extend it: localize,
+                              then map on from it into the site's next version (both need --site)
   --site ID                   the site the session belongs to (its latest map, to localize on)
-  --initial-pose X,Y,THETA    localize: the robot's start on the site's map, m and rad (else
+  --initial-pose X,Y,THETA    localize, extend: the robot's start on the site's map, m and rad (else
                               global localization); --mode, --site and --initial-pose go into
                               the settings, over the same keys of --settings
   --scan-format binary|json   (binary)
@@ -163,7 +164,9 @@ ParsedOptions ParseAgentOptions(const std::vector<std::string>& args) {
          if (!settings.is_object()) throw std::invalid_argument("--settings: a JSON object, got '" + v + "'");
        }},
       {"--mode", [&](const std::string& v) {
-         if (v != "map" && v != "localize") throw std::invalid_argument("--mode: map or localize, got '" + v + "'");
+         if (v != "map" && v != "localize" && v != "extend") {
+           throw std::invalid_argument("--mode: map, localize or extend, got '" + v + "'");
+         }
          localize["mode"] = v;
        }},
       {"--site", [&](const std::string& v) {
@@ -216,11 +219,11 @@ ParsedOptions ParseAgentOptions(const std::vector<std::string>& args) {
       throw std::invalid_argument("--laser is only for --source pioneer:...");
     }
     settings.update(localize);
-    if (settings.value("mode", "map") == "localize" && !settings.contains("site")) {
-      throw std::invalid_argument("--mode localize needs --site ID (the site whose map to localize on)");
+    if (settings.value("mode", "map") != "map" && !settings.contains("site")) {
+      throw std::invalid_argument("--mode " + settings.value("mode", "map") + " needs --site ID (the site whose map to localize on)");
     }
-    if (settings.contains("initial_pose") && settings.value("mode", "map") != "localize") {
-      throw std::invalid_argument("--initial-pose is for --mode localize");
+    if (settings.contains("initial_pose") && settings.value("mode", "map") == "map") {
+      throw std::invalid_argument("--initial-pose is for --mode localize or extend");
     }
     if (!settings.empty()) o.session_settings_json = settings.dump();
   } catch (const std::invalid_argument& e) {

@@ -118,8 +118,9 @@ TEST(MessagesTest, LocalizeOptionsGoIntoTheHelloSettings) {
 
   // Refused at once, each naming what is wrong.
   const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
-      {{"--mode", "extend"}, "--mode"},
+      {{"--mode", "walk"}, "--mode"},
       {{"--mode", "localize"}, "--site"},
+      {{"--mode", "extend"}, "--site"},
       {{"--initial-pose", "1,2,0.5", "--site", "site-0123456789abcdef"}, "--initial-pose is for --mode localize"},
       {{"--mode", "localize", "--site", "site-0123456789abcdef", "--initial-pose", "1,2"}, "--initial-pose"},
       {{"--mode", "localize", "--site", "site-0123456789abcdef", "--initial-pose", "1,x,2"}, "--initial-pose"},

@@ -194,6 +194,26 @@ TEST(RealServerTest, LocalizeFlagsStartALocalizeSessionOnTheSiteFromTheGivenPose
   EXPECT_TRUE(filter.contains("localization")) << filter;
 }
 
+TEST(RealServerTest, ExtendFlagsStartAnExtendSessionOnTheSite) {
+  TempDir dir;
+  ServerProcess server(dir.path() / "data", {"--agent-token", "agent-secret-1", "--viewer-token", "viewer-secret-1",
+                                             "--particles", "4", "--predict", "off"});
+  const unsigned short port = server.port();
+  const std::string site = testing::PostJson(port, "/api/sites", {{"name", "sim"}}, "agent-secret-1")["id"];
+  const std::string mapping = RunSimAgent(port, dir.path() / "spool-map", {"--site", site}, 30);
+  WaitFor([&] { return GetJson(port, "/api/sessions/" + mapping)["status"] == "closed"; }, 20.0);
+  testing::PostJson(port, "/api/sites/" + site + "/maps", {{"session_id", mapping}}, "agent-secret-1");
+
+  const std::string id = RunSimAgent(port, dir.path() / "spool-extend",
+                                     {"--mode", "extend", "--site", site, "--initial-pose", "0.05,-0.02,0.01"}, 20);
+  const auto settings = GetJson(port, "/api/sessions/" + id)["settings"];
+  EXPECT_EQ(settings["mode"], "extend");
+  EXPECT_EQ(settings["site"], site);
+  EXPECT_EQ(settings["map_version"], 1);
+  const std::string phase = GetJson(port, "/api/sessions/" + id + "/stats")["filter"]["mode"];
+  EXPECT_TRUE(phase == "extend_localize" || phase == "extend_map") << phase;
+}
+
 TEST(RealServerTest, SessionLimitIsReportedPlainlyAndRetried) {
   TempDir dir;
   ServerProcess server(dir.path() / "data", {"--agent-token", "agent-secret-1", "--viewer-token", "viewer-secret-1",
