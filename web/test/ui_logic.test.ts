@@ -151,6 +151,12 @@ describe('localization rows', () => {
     expect(rows.find((r) => r.label === 'best cluster')?.value).toBe('93 % of 2 clusters');
     expect(localizationRows({ mode: 'localize', localization: { localized: false } })[1].value).toBe('no');
   });
+
+  it('label the phase of an extend session, with the localization only while it localizes', () => {
+    const localizing = localizationRows({ mode: 'extend_localize', localization: { localized: false } });
+    expect(localizing.map((r) => r.value)).toEqual(['extend a site map: localizing on it', 'no']);
+    expect(localizationRows({ mode: 'extend_map' }).map((r) => r.value)).toEqual(['extend a site map: mapping on from it']);
+  });
 });
 
 describe('set-pose drag', () => {

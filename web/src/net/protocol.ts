@@ -64,7 +64,8 @@ export interface EngineStats {
   mapped_m2?: number;
   predicted_m2?: number;
   predicted_frontiers?: number;
-  // 'map' or 'localize'; in localize mode, whether the robot is localized on the site's map.
+  // 'map', 'localize', or an extend session's phase: 'extend_localize' then 'extend_map'; while
+  // localizing, whether the robot is localized on the site's map.
   mode?: string;
   localization?: LocalizationStats;
 }

@@ -1,5 +1,6 @@
-// The statistics rows of a session's mode and, in localize mode, of its localization: whether
-// the robot is localized on the site's map and how spread the heaviest particle cluster is.
+// The statistics rows of a session's mode and, while it localizes (localize mode, or an extend
+// session before it maps), of its localization: whether the robot is localized on the site's map
+// and how spread the heaviest particle cluster is.
 import type { EngineStats } from '../net/protocol';
 
 export interface StatRow {
@@ -8,11 +9,22 @@ export interface StatRow {
   title?: string;
 }
 
+const MODE_LABELS: Record<string, string> = {
+  localize: 'localize on a site map',
+  extend_localize: 'extend a site map: localizing on it',
+  extend_map: 'extend a site map: mapping on from it',
+};
+
+// Whether the session localizes on a site's map now (and so takes a pose).
+export function isLocalizing(mode: string | undefined): boolean {
+  return mode === 'localize' || mode === 'extend_localize';
+}
+
 export function localizationRows(st: EngineStats): StatRow[] {
   if (!st.mode) return [];
-  const rows: StatRow[] = [{ label: 'mode', value: st.mode === 'localize' ? 'localize on a site map' : st.mode }];
+  const rows: StatRow[] = [{ label: 'mode', value: MODE_LABELS[st.mode] ?? st.mode }];
   const l = st.localization;
-  if (st.mode !== 'localize' || !l) return rows;
+  if (!isLocalizing(st.mode) || !l) return rows;
   const spread: string[] = [];
   if (typeof l.position_std_m === 'number') spread.push(`± ${l.position_std_m.toFixed(2)} m`);
   if (typeof l.heading_std_rad === 'number') spread.push(`± ${((l.heading_std_rad * 180) / Math.PI).toFixed(1)}°`);

@@ -16,6 +16,7 @@ import { h } from './dom';
 import { fitBox } from './fit_box';
 import { ExplorationBanner } from './exploration_banner';
 import { iconElement, icons } from './icons';
+import { isLocalizing } from './localization';
 
 const kPalette = buildMapPalette();
 
@@ -132,7 +133,7 @@ export class SessionView {
 
   // The set-pose tool is offered while the session localizes on a site's map and runs.
   get canSetPose(): boolean {
-    return this.client.stats.latest.mode === 'localize' && this.client.status === 'active' && !this.client.isPaused;
+    return isLocalizing(this.client.stats.latest.mode) && this.client.status === 'active' && !this.client.isPaused;
   }
 
   // Armed, the next press-drag-release on the map sets the pose instead of panning.
