@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,7 +25,7 @@ constexpr const char* kUsage =
     "  Explores the world (default core/worlds/office.yaml) and maps it: the first version. Then the\n"
     "  world changes: --changed loads the changed world, else N (3) pieces of interior wall or\n"
     "  free-standing obstacles move 1 m sideways (deterministic for --move-seed, 1; --write-changed\n"
-    "  saves that world). A\n"
+    "  saves PREFIX-SEED). They move only where the first map shows them. A\n"
     "  second session localizes on the first version in the changed world, then extends it while\n"
     "  touring the places that changed and M (120) m of random goals, with the prior's confidence\n"
     "  capped and again without the cap. Prints Psi (occupied cells, one-cell tolerance) of each\n"
@@ -75,13 +76,8 @@ int RunExtendExperiment(CliArgs& cli) {
     return 2;
   }
   try {
-    std::vector<WallMove> moves;
-    const World changed = changed_path ? LoadWorld(*changed_path)
-                                       : MoveWalls(world->world, world->start.translation(), move_options, &moves);
-    if (write_changed) SaveWorld(changed, *write_changed, world->start, "moved walls of " + world->path);
-    const OccupancyGrid original_truth = world->world.ToGrid(), changed_truth = changed.ToGrid();
-    std::printf("%s: %zu wall piece(s) moved%s\n", world->path.c_str(), moves.size(),
-                changed_path ? (" (" + *changed_path + ")").c_str() : "");
+    const std::optional<World> given = changed_path ? std::optional<World>(LoadWorld(*changed_path)) : std::nullopt;
+    const OccupancyGrid original_truth = world->world.ToGrid();
     std::vector<double> first_psi, stale_psi, capped_psi, uncapped_psi, capped_old, uncapped_old;
     for (int r = 0; r < runs; ++r) {
       const std::uint64_t seed = first_seed + static_cast<std::uint64_t>(r);
@@ -91,13 +87,27 @@ int RunExtendExperiment(CliArgs& cli) {
       const ExplorationSummary summary =
           RunExplorationWithProgress(first, "seed " + std::to_string(seed) + " first session", progress);
       auto old_map = std::make_shared<const OccupancyGrid>(first.slam().filter().best().map);
+      // Walls move where the first session saw them: a change it never mapped tests nothing.
+      std::vector<WallMove> moves;
+      const World changed =
+          given ? *given : MoveWalls(world->world, world->start.translation(), move_options, &moves, old_map.get());
+      if (write_changed) SaveWorld(changed, *write_changed + "-" + std::to_string(seed), world->start, "moved walls of " + world->path);
+      const OccupancyGrid changed_truth = changed.ToGrid();
       const double v1 = BuiltMapSimilarity(*old_map, original_truth), stale = BuiltMapSimilarity(*old_map, changed_truth);
 
       tour.seed = seed;
       tour.mapping = o.slam.filter;
       tour.mapping.loop_closure.enabled = false;
       tour.visit_first.clear();
-      for (const WallMove& m : moves) tour.visit_first.push_back((m.from.min + m.from.max).cast<double>() * 0.5 * changed.resolution());
+      for (const WallMove& m : moves) {
+        // Beside the old place, on the side the piece moved away from: it sees both places.
+        const double res = changed.resolution();
+        const Eigen::Vector2d move = (m.to.min - m.from.min).cast<double>() * res;
+        const Eigen::Vector2d half = Eigen::Vector2d(m.from.width(), m.from.height()) * 0.5 * res;
+        const Eigen::Vector2d dir = move.normalized();
+        const Eigen::Vector2d centre = (m.from.min + m.from.max).cast<double>() * 0.5 * res;
+        tour.visit_first.push_back(centre - dir * (std::abs(dir.dot(half)) + 0.7));
+      }
       const ExtendTourResult capped = RunExtendTour(changed, old_map, world->start, tour);
       ExtendTourOptions no_cap = tour;
       no_cap.mapping.prior_max_probability = 1.0;
@@ -106,8 +116,9 @@ int RunExtendExperiment(CliArgs& cli) {
       const double kept = StaleWalls(*old_map, capped.map, world->world, changed);
       const double kept_uncapped = StaleWalls(*old_map, uncapped.map, world->world, changed);
 
-      std::printf("seed %llu  first: %s after %.0f s, Psi %.3f vs original (%.3f vs changed)\n",
-                  static_cast<unsigned long long>(seed), ExplorationStateName(summary.state), summary.time_s, v1, stale);
+      std::printf("seed %llu  first: %s after %.0f s, Psi %.3f vs original (%.3f vs changed); %zu moved\n",
+                  static_cast<unsigned long long>(seed), ExplorationStateName(summary.state), summary.time_s, v1, stale,
+                  moves.size());
       std::printf("          extended (cap): Psi %.3f vs changed; localized after %d scans, %.0f m driven, "
                   "final error vs world %.2f m; moved-away walls kept %.0f %%\n",
                   v2, capped.localize_scans, capped.distance, capped.final_position_error, 100.0 * kept);
@@ -127,7 +138,6 @@ int RunExtendExperiment(CliArgs& cli) {
                 SpreadText(SpreadOf(uncapped_psi)).c_str());
     if (json_path) {
       WriteJsonFile(*json_path, JsonObject({{"world", JsonString(world->path)},
-                                           {"moves", JsonNumber(static_cast<double>(moves.size()))},
                                            {"psi_first_vs_original", JsonArray(first_psi)},
                                            {"psi_first_vs_changed", JsonArray(stale_psi)},
                                            {"psi_extended_vs_changed", JsonArray(capped_psi)},

@@ -105,6 +105,26 @@ bool MoveBlock(World& w, const Block& block, const Eigen::Vector2i& d, int clear
   return true;
 }
 
+// Whether 'seen' shows at least half of the faces of these cells as walls (within one cell).
+bool Seen(const World& w, const OccupancyGrid* seen, const std::vector<Eigen::Vector2i>& cells) {
+  if (!seen) return true;
+  int faces = 0, shown = 0;
+  for (const Eigen::Vector2i& c : cells) {
+    bool face = false;
+    for (const Eigen::Vector2i& d : {Eigen::Vector2i(1, 0), Eigen::Vector2i(-1, 0), Eigen::Vector2i(0, 1), Eigen::Vector2i(0, -1)}) {
+      face |= w.IsFree(c + d);
+    }
+    if (!face) continue;
+    ++faces;
+    bool wall = false;
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) wall |= seen->Probability(c.x() + dx, c.y() + dy) > 0.5f;
+    }
+    shown += wall;
+  }
+  return faces > 0 && 2 * shown >= faces;
+}
+
 CellBox Box(const Piece& p, int dv) {
   CellBox box;
   box.Extend(Cell(p.along_x, p.u0, p.v0 + dv));
@@ -115,7 +135,7 @@ CellBox Box(const Piece& p, int dv) {
 }  // namespace
 
 World MoveWalls(const World& world, const Eigen::Vector2d& keep_free, const WallMoveOptions& o,
-                std::vector<WallMove>* moves) {
+                std::vector<WallMove>* moves, const OccupancyGrid* seen) {
   const double res = world.resolution();
   const int len = std::max(4, static_cast<int>(std::lround(o.length / res)));
   const int shift = std::max(1, static_cast<int>(std::lround(o.shift / res)));
@@ -138,6 +158,7 @@ World MoveWalls(const World& world, const Eigen::Vector2d& keep_free, const Wall
       const Block& block = blocks[index - pieces.size()];
       const Eigen::Vector2d centre = (block.box.min + block.box.max).cast<double>() * 0.5 * res;
       if ((centre - keep_free).norm() < o.keep_away + o.shift + 0.5 * block.box.width() * res) continue;
+      if (!Seen(world, seen, block.cells)) continue;
       for (const Eigen::Vector2i& d : {Eigen::Vector2i(shift, 0), Eigen::Vector2i(-shift, 0), Eigen::Vector2i(0, shift),
                                        Eigen::Vector2i(0, -shift)}) {
         if (!MoveBlock(out, block, d, clearance)) continue;
@@ -154,6 +175,11 @@ World MoveWalls(const World& world, const Eigen::Vector2d& keep_free, const Wall
     const CellBox from = Box(p, 0);
     const Eigen::Vector2d centre = (from.min + from.max).cast<double>() * 0.5 * res;
     if ((centre - keep_free).norm() < o.keep_away + o.shift) continue;
+    std::vector<Eigen::Vector2i> cells;
+    for (int u = p.u0; u < p.u0 + len; ++u) {
+      for (int v = 0; v < p.t; ++v) cells.push_back(Cell(p.along_x, u, p.v0 + v));
+    }
+    if (!Seen(world, seen, cells)) continue;
     // Still the piece it was (an earlier move did not take or touch it)?
     if (!AllAre(out, p.along_x, p.u0, p.u0 + len - 1, p.v0, p.v0 + p.t - 1, WorldCell::kOccupied)) continue;
     for (const int side : {1, -1}) {

@@ -27,7 +27,9 @@ struct WallMove {
 // at most 0.3 m thick; free-standing obstacles are occupied components that touch no unknown cell
 // (the outer walls do). Each moves by 'shift' to a side where its new place, with 'clearance'
 // around it, is free. Fewer than 'count' moves when fewer candidates qualify.
+// With 'seen' (a map of the world, e.g. the first session's), only what it shows is moved: at least
+// half of a candidate's faces (cells next to free space) are walls there, within one cell.
 World MoveWalls(const World& world, const Eigen::Vector2d& keep_free, const WallMoveOptions& options,
-                std::vector<WallMove>* moves = nullptr);
+                std::vector<WallMove>* moves = nullptr, const OccupancyGrid* seen = nullptr);
 
 }  // namespace pslam
