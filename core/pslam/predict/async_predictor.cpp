@@ -7,8 +7,8 @@
 
 namespace pslam {
 
-AsyncPredictor::AsyncPredictor(const PredictorOptions& options)
-    : predictor_(std::make_unique<StructurePredictor>(options)),
+AsyncPredictor::AsyncPredictor(const PredictorOptions& options, MapLibrary library)
+    : predictor_(std::make_unique<StructurePredictor>(options, std::move(library))),
       predict_([p = predictor_.get()](const OccupancyGrid& map, const Eigen::Vector2i& target, double time,
                                       std::stop_token stop) { return p->Predict(map, target, time, std::move(stop)); }),
       worker_([this](std::stop_token stop) { Work(std::move(stop)); }) {}

@@ -38,8 +38,9 @@ class AsyncPredictor {
   using PredictFunction =
       std::function<std::optional<Hypothesis>(const OccupancyGrid&, const Eigen::Vector2i&, double, std::stop_token)>;
 
-  // Throws std::invalid_argument if 'options' is invalid (see StructurePredictor).
-  explicit AsyncPredictor(const PredictorOptions& options = {});
+  // Throws std::invalid_argument if 'options' is invalid (see StructurePredictor); 'library' is
+  // searched too (StructurePredictor).
+  explicit AsyncPredictor(const PredictorOptions& options = {}, MapLibrary library = {});
   // Visible for testing: runs 'predict' instead of a StructurePredictor.
   explicit AsyncPredictor(PredictFunction predict);
   // Asks a running prediction to stop at its next check and joins the worker.

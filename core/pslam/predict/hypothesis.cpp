@@ -31,10 +31,15 @@ void MoveHypothesis(Hypothesis& h, const Pose2D& move, double resolution) {
   for (HypothesisCell& c : h.cells) c.cell = cell(c.cell);
   for (HypothesisCell& c : h.undecided_cells) c.cell = cell(c.cell);
   h.target_cell = cell(h.target_cell);
-  h.reference_cell = cell(h.reference_cell);
-  // Gamma conjugated by the move: the same rotation, between the moved control points.
   h.target_control_point = move * h.target_control_point;
-  h.reference_control_point = move * h.reference_control_point;
+  if (h.reference_map.empty()) {
+    // Gamma conjugated by the move: the same rotation, between the moved control points.
+    h.reference_cell = cell(h.reference_cell);
+    h.reference_control_point = move * h.reference_control_point;
+  } else {
+    // Gamma followed by the move: the library map stays where it is.
+    h.theta = NormalizeAngle(h.theta + move.theta);
+  }
   h.translation = h.target_control_point - h.reference_control_point;
 }
 

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "pslam/common/pose2d.hpp"
@@ -24,7 +25,10 @@ struct Hypothesis {
   int id = 0;                           // unique per StructurePredictor, from 1
   double time = 0.0;                    // the caller's timestamp of the request
   Eigen::Vector2i target_cell{0, 0};    // f: the frontier cell the prediction was requested for
-  Eigen::Vector2i reference_cell{0, 0}; // f': the built-map cell that Gamma carries onto f
+  Eigen::Vector2i reference_cell{0, 0}; // f': the reference map's cell that Gamma carries onto f
+  // The map the reference came from: empty for the map being built, else a library map's id
+  // (LibraryMap::id). reference_cell and reference_control_point are in that map's frame.
+  std::string reference_map;
   // Gamma of eq. 2 in map metres: rotate by theta about reference_control_point (P2), then
   // translate by 'translation' = P1 - P2. ReferenceToTarget() gives it as a Pose2D.
   double theta = 0.0;                  // radians
@@ -49,7 +53,8 @@ struct Hypothesis {
 Pose2D ReferenceToTarget(const Hypothesis& hypothesis);
 
 // Moves a hypothesis with its map when a loop closure corrects the map by `move` (new frame from
-// old): its cells (nearest cell), target and reference cells and control points.
+// old): its cells (nearest cell), target cell and P1, and the reference cell and P2 when they
+// are in that map (reference_map empty); a library reference stays and theta turns instead.
 void MoveHypothesis(Hypothesis& hypothesis, const Pose2D& move, double resolution);
 
 // Psi (eq. 5, occupied cells only, same tolerance as the search) between the hypothesis and

@@ -35,6 +35,7 @@ std::optional<std::string> ValidatePredictorOptions(const PredictorOptions& o) {
   c.Require(std::isfinite(o.min_reference_distance_m) && o.min_reference_distance_m >= 0.0,
             "min_reference_distance_m", o.min_reference_distance_m, "must be >= 0");
   c.Require(o.max_reference_corners >= 1, "max_reference_corners", o.max_reference_corners, "must be >= 1");
+  c.Require(o.max_library_maps >= 0, "max_library_maps", o.max_library_maps, "must be >= 0");
   c.Require(Positive(o.search_radius_m) && o.search_radius_m <= 1000.0, "search_radius_m", o.search_radius_m,
             "must lie in (0, 1000]");
   c.Require(o.similarity_threshold >= 0.4 && o.similarity_threshold <= 0.7, "similarity_threshold",

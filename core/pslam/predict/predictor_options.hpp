@@ -21,6 +21,9 @@ struct PredictorOptions {
   // The search bound the paper suggests (section III-A, "a fixed searching bound"): at most this
   // many reference corners, the strongest corner responses first, each tried at four angles.
   int max_reference_corners = 200;
+  // Library maps searched besides the map being built (library_map.hpp), each with at most
+  // max_reference_corners of its strongest corners: this many at most, the first given.
+  int max_library_maps = 4;
   // Reference corners are taken within this distance of f, and features are extracted only on
   // the window that covers them and their regions, so a prediction costs the same in a 10 km^2
   // map as in a building wing.

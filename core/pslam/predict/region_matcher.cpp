@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <utility>
 
 namespace pslam {
 namespace {
@@ -14,16 +15,24 @@ bool InSample(int x, int y) {
 
 }  // namespace
 
-RegionMatcher::RegionMatcher(const CellRaster& window, const CellRaster& target, int tolerance_cells)
-    : window_origin_(window.origin),
-      target_origin_(target.origin),
-      window_width_(window.width), window_height_(window.height) {
-  const std::vector<std::uint8_t> window_near = DilatedOccupancy(window, tolerance_cells);
-  window_flags_.resize(window.cells.size());
-  for (std::size_t i = 0; i < window_flags_.size(); ++i) {
-    window_flags_[i] = static_cast<std::uint8_t>((window.cells[i] == CellState::kOccupied ? kOccupied : 0) |
-                                                 (window_near[i] ? kNearOccupied : 0));
+MatchWindow MakeMatchWindow(const CellRaster& window, int tolerance_cells) {
+  MatchWindow w{window.origin, window.width, window.height, {}};
+  const std::vector<std::uint8_t> near = DilatedOccupancy(window, tolerance_cells);
+  w.flags.resize(window.cells.size());
+  for (std::size_t i = 0; i < w.flags.size(); ++i) {
+    w.flags[i] = static_cast<std::uint8_t>((window.cells[i] == CellState::kOccupied ? MatchWindow::kOccupied : 0) |
+                                           (near[i] ? MatchWindow::kNearOccupied : 0));
   }
+  return w;
+}
+
+RegionMatcher::RegionMatcher(const CellRaster& window, const CellRaster& target, int tolerance_cells)
+    : RegionMatcher(std::make_shared<const MatchWindow>(MakeMatchWindow(window, tolerance_cells)), target,
+                    tolerance_cells) {}
+
+RegionMatcher::RegionMatcher(std::shared_ptr<const MatchWindow> window, const CellRaster& target,
+                             int tolerance_cells)
+    : window_(std::move(window)), target_origin_(target.origin) {
   const std::vector<std::uint8_t> target_near = DilatedOccupancy(target, tolerance_cells);
   for (int y = 0; y < target.height; ++y) {
     for (int x = 0; x < target.width; ++x) {
@@ -56,19 +65,20 @@ double RegionMatcher::PsiOver(const std::vector<TargetCell>& cells, std::int64_t
   // folding in both origins (see Alignment::ToReference). The + 0.5 makes truncation round to
   // the nearest cell for the non-negative coordinates that can hit the window.
   const double c = std::cos(alignment.theta), s = std::sin(alignment.theta);
-  const Eigen::Vector2d b = alignment.ToReference(target_origin_.cast<double>()) - window_origin_.cast<double>() +
+  const Eigen::Vector2d b = alignment.ToReference(target_origin_.cast<double>()) - window_->origin.cast<double>() +
                             Eigen::Vector2d(0.5, 0.5);
   const auto a00 = static_cast<float>(c), a01 = static_cast<float>(s), a10 = static_cast<float>(-s),
              a11 = static_cast<float>(c);
   const auto bx = static_cast<float>(b.x()), by = static_cast<float>(b.y());
-  const auto w = static_cast<float>(window_width_), h = static_cast<float>(window_height_);
+  const int width = window_->width;
+  const auto w = static_cast<float>(width), h = static_cast<float>(window_->height);
   std::int64_t aligned_occupied = 0, target_matched = 0, aligned_matched = 0;
   for (const TargetCell& t : cells) {
     const float rx = a00 * t.x + a01 * t.y + bx;
     const float ry = a10 * t.x + a11 * t.y + by;
     std::uint8_t ref = 0;
     if (rx >= 0.0f && ry >= 0.0f && rx < w && ry < h) {
-      ref = window_flags_[static_cast<std::size_t>(static_cast<int>(ry)) * static_cast<std::size_t>(window_width_) +
+      ref = window_->flags[static_cast<std::size_t>(static_cast<int>(ry)) * static_cast<std::size_t>(width) +
                           static_cast<std::size_t>(static_cast<int>(rx))];
     }
     aligned_occupied += ref & kOccupied;

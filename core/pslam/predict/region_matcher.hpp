@@ -11,6 +11,7 @@
 // 90 degrees the two are identical, otherwise they differ by resampling only. The predictor ranks
 // with this and reports the exact value for the alignment it keeps.
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "pslam/predict/alignment.hpp"
@@ -18,11 +19,25 @@
 
 namespace pslam {
 
+// The reference side of the search: a map raster's occupied and near-occupied flags. Independent
+// of S_f, so a map searched by many predictions (a library map) builds it once.
+struct MatchWindow {
+  static constexpr std::uint8_t kOccupied = 1;
+  static constexpr std::uint8_t kNearOccupied = 2;  // within the tolerance of an occupied cell
+
+  Eigen::Vector2i origin{0, 0};
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> flags;  // row-major, kOccupied | kNearOccupied
+};
+MatchWindow MakeMatchWindow(const CellRaster& window, int tolerance_cells);
+
 class RegionMatcher {
  public:
   // 'window' is the map raster the reference points index into (cells outside count as unknown);
   // 'target' is S_f.
   RegionMatcher(const CellRaster& window, const CellRaster& target, int tolerance_cells);
+  RegionMatcher(std::shared_ptr<const MatchWindow> window, const CellRaster& target, int tolerance_cells);
 
   double Psi(const Alignment& alignment) const;
   // Psi over a fixed pseudo-random quarter of the explored cells of S_f: the same ratio estimated
@@ -37,16 +52,13 @@ class RegionMatcher {
     float x, y;           // relative to the target's origin
     std::uint8_t flags;   // kOccupied | kNearOccupied
   };
-  static constexpr std::uint8_t kOccupied = 1;
-  static constexpr std::uint8_t kNearOccupied = 2;  // within the tolerance of an occupied cell
+  static constexpr std::uint8_t kOccupied = MatchWindow::kOccupied;
+  static constexpr std::uint8_t kNearOccupied = MatchWindow::kNearOccupied;
 
   double PsiOver(const std::vector<TargetCell>& cells, std::int64_t target_occupied, const Alignment& alignment) const;
 
-  Eigen::Vector2i window_origin_;
+  std::shared_ptr<const MatchWindow> window_;
   Eigen::Vector2i target_origin_;
-  int window_width_;
-  int window_height_;
-  std::vector<std::uint8_t> window_flags_;
   std::vector<TargetCell> explored_;
   std::int64_t target_occupied_ = 0;
   std::vector<TargetCell> sampled_;  // the quarter CoarsePsi uses

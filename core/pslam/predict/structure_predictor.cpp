@@ -6,6 +6,8 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "pslam/predict/alignment.hpp"
@@ -73,6 +75,14 @@ std::vector<double> CandidateAngles(const Corner& target, const Corner& referenc
 struct Candidate {
   Alignment alignment;
   double psi = 0.0;
+  std::size_t source = 0;  // index into the sources: 0 the map being built, then the library maps
+};
+
+// A map searched for references: the map being built, or a library map (features cached there).
+struct Source {
+  const OccupancyGrid* map = nullptr;
+  std::string id;  // empty for the map being built
+  RegionMatcher matcher;
 };
 
 // Local search around 'start' (predictor_options.hpp, refined_candidates): theta in +-2 steps of
@@ -89,7 +99,7 @@ Candidate Refine(const RegionMatcher& matcher, const Candidate& start, double an
         a.theta = start.alignment.theta + k * angle_step;
         a.target_point += Eigen::Vector2d(dx, dy);
         const double psi = matcher.Psi(a);
-        if (psi > best.psi) best = {a, psi};
+        if (psi > best.psi) best = {a, psi, start.source};
       }
     }
   }
@@ -119,9 +129,13 @@ bool Agrees(const CellRaster& predicted, const CellRaster& other, const Predicto
 
 }  // namespace
 
-StructurePredictor::StructurePredictor(const PredictorOptions& options)
-    : options_(options), classify_(options.states) {
+StructurePredictor::StructurePredictor(const PredictorOptions& options, MapLibrary library)
+    : options_(options), classify_(options.states), library_(std::move(library)) {
   if (const auto error = ValidatePredictorOptions(options)) throw std::invalid_argument(*error);
+  if (static_cast<int>(library_.size()) > options_.max_library_maps) library_.resize(options_.max_library_maps);
+  for (const auto& entry : library_) {
+    if (!entry) throw std::invalid_argument("library map: null");
+  }
 }
 
 std::optional<Hypothesis> StructurePredictor::Predict(const OccupancyGrid& map, const Eigen::Vector2i& target,
@@ -198,8 +212,11 @@ std::optional<Hypothesis> StructurePredictor::Run(const OccupancyGrid& map, cons
   }
 
   // 4. Reference corners: strongest first (the corner list is sorted), outside the target
-  // neighbourhood, inside the search radius, at most max_reference_corners of them.
-  std::vector<const Corner*> references;
+  // neighbourhood, inside the search radius, at most max_reference_corners of them; then as many
+  // of each library map of the same resolution, strongest first (another frame: no radius).
+  std::vector<Source> sources;
+  sources.push_back({&map, {}, RegionMatcher(window, target_raster, options_.tolerance_cells)});
+  std::vector<std::pair<const Corner*, std::size_t>> references;
   const double exclusion = options_.min_reference_distance_m / resolution;
   const double reach = options_.search_radius_m / resolution;
   for (const Corner& c : features.corners) {
@@ -207,7 +224,13 @@ std::optional<Hypothesis> StructurePredictor::Run(const OccupancyGrid& map, cons
     if (&c == control || (c.position - control->position).norm() < exclusion || (c.position - f).norm() > reach) {
       continue;
     }
-    references.push_back(&c);
+    references.push_back({&c, 0});
+  }
+  for (const auto& entry : library_) {
+    if (std::abs(entry->map.resolution() - resolution) > 1e-9 * resolution) continue;
+    sources.push_back({&entry->map, entry->id, RegionMatcher(entry->window, target_raster, options_.tolerance_cells)});
+    const std::size_t n = std::min(entry->corners.size(), static_cast<std::size_t>(options_.max_reference_corners));
+    for (std::size_t i = 0; i < n; ++i) references.push_back({&entry->corners[i], sources.size() - 1});
   }
   report_.reference_corners = static_cast<int>(references.size());
   if (references.empty()) {
@@ -215,10 +238,10 @@ std::optional<Hypothesis> StructurePredictor::Run(const OccupancyGrid& map, cons
     return std::nullopt;
   }
 
-  const RegionMatcher matcher(window, target_raster, options_.tolerance_cells);
   std::vector<Candidate> candidates;
   candidates.reserve(4 * references.size());
-  for (const Corner* reference : references) {
+  for (const auto& [reference, source] : references) {
+    const RegionMatcher& matcher = sources[source].matcher;
     if (stop.stop_requested()) {
       report_.outcome = Outcome::kCancelled;
       return std::nullopt;
@@ -226,7 +249,7 @@ std::optional<Hypothesis> StructurePredictor::Run(const OccupancyGrid& map, cons
     for (const double theta : CandidateAngles(*control, *reference)) {
       const Alignment alignment{control->position, reference->position, theta};
       const bool coarse = options_.coarse_rescored > 0;
-      candidates.push_back({alignment, coarse ? matcher.CoarsePsi(alignment) : matcher.Psi(alignment)});
+      candidates.push_back({alignment, coarse ? matcher.CoarsePsi(alignment) : matcher.Psi(alignment), source});
     }
   }
   report_.alignments = static_cast<int>(candidates.size());
@@ -235,7 +258,7 @@ std::optional<Hypothesis> StructurePredictor::Run(const OccupancyGrid& map, cons
   if (options_.coarse_rescored > 0) {
     // Coarse to fine (predictor_options.hpp): the best coarse scores, scored on every cell.
     candidates.resize(std::min(candidates.size(), static_cast<std::size_t>(options_.coarse_rescored)));
-    for (Candidate& c : candidates) c.psi = matcher.Psi(c.alignment);
+    for (Candidate& c : candidates) c.psi = sources[c.source].matcher.Psi(c.alignment);
     report_.alignments += static_cast<int>(candidates.size());
     std::stable_sort(candidates.begin(), candidates.end(), better);
   }
@@ -249,10 +272,10 @@ std::optional<Hypothesis> StructurePredictor::Run(const OccupancyGrid& map, cons
   for (std::size_t i = 0; i < kept; ++i) {
     Candidate c = candidates[i];
     if (options_.refined_candidates > 0) {
-      c = Refine(matcher, c, angle_step);
+      c = Refine(sources[c.source].matcher, c, angle_step);
       report_.alignments += kRefineEvaluations;
     }
-    CellRaster aligned = AlignReference(map, target_box, c.alignment, classify_);
+    CellRaster aligned = AlignReference(*sources[c.source].map, target_box, c.alignment, classify_);
     c.psi = Similarity(target_raster, aligned, options_.tolerance_cells);
     if (!best_aligned || c.psi > best.psi) {
       best = c;
@@ -275,7 +298,7 @@ std::optional<Hypothesis> StructurePredictor::Run(const OccupancyGrid& map, cons
         report_.outcome = Outcome::kCancelled;
         return std::nullopt;
       }
-      const CellRaster aligned = AlignReference(map, target_box, other.alignment, classify_);
+      const CellRaster aligned = AlignReference(*sources[other.source].map, target_box, other.alignment, classify_);
       if (!Agrees(predicted, aligned, options_)) {
         report_.outcome = Outcome::kAmbiguous;
         report_.search_ms = MsSince(search_start);
@@ -305,6 +328,7 @@ std::optional<Hypothesis> StructurePredictor::Run(const OccupancyGrid& map, cons
   h.id = next_id_++;
   h.time = time;
   h.target_cell = target;
+  h.reference_map = sources[best.source].id;
   h.reference_cell = NearestCell(a.ToReference(f));
   h.theta = NormalizeAngle(a.theta);
   h.target_control_point = (a.target_point + Eigen::Vector2d(0.5, 0.5)) * resolution;

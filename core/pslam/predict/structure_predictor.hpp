@@ -16,12 +16,19 @@
 //      reference states written into the cells of S_f that were never observed (section III-C),
 //      and apart into those observed but undecided, for exploration only.
 //
-// Bound on the work per prediction, whatever the size of the map: feature extraction on a window
+// Library maps (library_map.hpp): other maps of the site, searched in step 4 as well, each with at
+// most max_reference_corners of its strongest corners; a hypothesis names the map its reference
+// came from. Their features are computed once, when the library map is made, not here. The same
+// acceptance rules (threshold, ambiguity) apply to all candidates together.
+//
+// Bound on the work per prediction, whatever the size of the maps: feature extraction on a window
 // of at most (2 (search_radius_m + region_size_m / sqrt(2) + control_point_range_m) / resolution)^2
-// cells, then at most 4 * max_reference_corners + 44 * refined_candidates alignments, each costing
-// one lookup per explored cell of S_f (at most ceil(region_size_m / resolution)^2), and one exact
-// Psi per refined candidate. With the defaults at 5 cm: a 2405^2-cell window and 932 alignments
-// of at most 200^2 cells.
+// cells of the map being built, then at most 4 * max_reference_corners * (1 + L) + 44 *
+// refined_candidates alignments, L = the library maps (at most max_library_maps), each costing
+// one lookup per explored cell of S_f (at most ceil(region_size_m / resolution)^2), plus one
+// listing of S_f per map searched and one exact Psi per refined candidate. With the defaults at
+// 5 cm: a 2405^2-cell window and 932 alignments of at most 200^2 cells without a library, 4132
+// with four library maps.
 #include <Eigen/Core>
 #include <cstdint>
 #include <optional>
@@ -29,6 +36,7 @@
 
 #include "pslam/grid/occupancy_grid.hpp"
 #include "pslam/predict/hypothesis.hpp"
+#include "pslam/predict/library_map.hpp"
 #include "pslam/predict/predictor_options.hpp"
 
 namespace pslam {
@@ -76,10 +84,12 @@ struct PredictorStats {
 class StructurePredictor {
  public:
   // Throws std::invalid_argument with ValidatePredictorOptions' message if 'options' is invalid.
-  explicit StructurePredictor(const PredictorOptions& options = {});
+  // 'library': maps searched besides the one predicted in (the first max_library_maps; those of
+  // another resolution are skipped), made with the same options.
+  explicit StructurePredictor(const PredictorOptions& options = {}, MapLibrary library = {});
 
   // Predicts the unexplored surroundings of 'target' (a cell of 'map', normally a frontier cell)
-  // from the rest of 'map'. nullopt when there is no control point, too little structure, no
+  // from the rest of 'map' and the library maps. nullopt when there is no control point, too little structure, no
   // match above the threshold or nothing to predict (last_report() says which), or when 'stop'
   // is requested. 'time' is
   // copied into the hypothesis.
@@ -89,6 +99,7 @@ class StructurePredictor {
   const PredictionReport& last_report() const { return report_; }
   const PredictorStats& stats() const { return stats_; }
   const PredictorOptions& options() const { return options_; }
+  const MapLibrary& library() const { return library_; }
 
  private:
   std::optional<Hypothesis> Run(const OccupancyGrid& map, const Eigen::Vector2i& target, double time,
@@ -96,6 +107,7 @@ class StructurePredictor {
 
   PredictorOptions options_;
   CellClassifier classify_;
+  MapLibrary library_;
   int next_id_ = 1;
   PredictionReport report_;
   PredictorStats stats_;

@@ -44,7 +44,7 @@ PSlam::PSlam(const PSlamOptions& options)
       classify_(options.predictor.states),
       coverage_(options.filter.resolution) {
   if (!options_.predict) options_.filter.use_predictions = false;
-  if (options_.predict) predictor_ = std::make_unique<AsyncPredictor>(options_.predictor);
+  if (options_.predict) predictor_ = std::make_unique<AsyncPredictor>(options_.predictor, options_.library);
 }
 
 PSlamStats PSlam::stats() const {

@@ -1,6 +1,7 @@
 #pragma once
 // Every tunable of P-SLAM as a whole: the filter, the predictor, and how hypotheses are judged.
 #include "pslam/filter/rbpf_options.hpp"
+#include "pslam/predict/library_map.hpp"
 #include "pslam/predict/predictor_options.hpp"
 
 namespace pslam {
@@ -64,6 +65,9 @@ struct PSlamOptions {
   double predict_from_psi = 0.7;
   HypothesisJudgeOptions judge;
   HeadingTargetOptions heading;
+  // Other maps of the site the predictor searches for references too (library_map.hpp), made
+  // with 'predictor'; shared and immutable, so copying the options is cheap.
+  MapLibrary library;
 };
 
 }  // namespace pslam
