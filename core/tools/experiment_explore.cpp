@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <limits>
 #include <exception>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "pslam/experiment/equal_coverage.hpp"
 #include "pslam/experiment/map_similarity.hpp"
 #include "pslam/io/map_io.hpp"
+#include "pslam/predict/library_map.hpp"
 
 namespace pslam {
 namespace {
@@ -24,7 +26,7 @@ constexpr const char* kUsage =
     "usage: pslam experiment explore [--world FILE.yaml] [--start X,Y,THETA] [--runs N] [--json OUT]\n"
     "                                [--save PREFIX] [--skip-fraction F] [--skip-radius M]\n"
     "                                [--plan-on-best-map] [--unbounded] [--pslam-mode skip|full]\n"
-    "                                [--quiet] [options]\n"
+    "                                [--library MAP.yaml]... [--quiet] [options]\n"
     "  Explores the world with the plain RBPF and full coverage, then with P-SLAM skipping predicted\n"
     "  regions, and compares the exploration times; --runs repeats both with seeds S, S+1, ...\n"
     "  Default world: core/worlds/maze.yaml. --skip-fraction and --skip-radius tune when a frontier\n"
@@ -34,6 +36,9 @@ constexpr const char* kUsage =
     "  --pslam-mode full runs P-SLAM with full coverage too, to compare maps with the same explorer\n"
     "  (the irregular world). --save PREFIX writes PREFIX_full, PREFIX_skip and PREFIX_skip_merged\n"
     "  maps of the first run (.pgm/.yaml/.png).\n"
+    "  --library MAP.yaml (repeatable): a map of the site (another floor of the same plan) the\n"
+    "  predictor searches for references too; each pair then has a third run, P-SLAM skipping\n"
+    "  predicted regions without the library, and both skip runs are compared with full coverage.\n"
     "  Time saved is measured at equal coverage: both runs are timed to the share of the reachable free\n"
     "  area that full coverage mapped, less --coverage-tolerance (0.02); a skip run that never gets\n"
     "  there saves 0. Pairs where a run hit --time-limit, or full coverage ended below 90 % of the\n"
@@ -46,6 +51,7 @@ struct ExploreRow {
   ExplorationSummary summary;
   double map_psi = 0.0;            // built map against the true world
   std::vector<double> psi_truth;   // per accepted hypothesis, against the true world
+  std::vector<bool> from_library;  // per accepted hypothesis: its reference is a library map
   double merged_psi = std::numeric_limits<double>::quiet_NaN();
   double merged_area_m2 = 0.0;
   double mapped_or_predicted = 0.0;  // share of the reachable free area mapped or predicted at the end
@@ -88,7 +94,9 @@ std::string RowJson(const ExploreRow& row) {
                      {"merged_psi", JsonNumber(row.merged_psi)},
                      {"merged_predicted_area_m2", JsonNumber(row.merged_area_m2)},
                      {"mapped_or_predicted_fraction", JsonNumber(row.mapped_or_predicted)},
-                     {"psi_truth", JsonArray(row.psi_truth)}});
+                     {"psi_truth", JsonArray(row.psi_truth)},
+                     {"library_hypotheses", JsonNumber(static_cast<double>(
+                                                std::count(row.from_library.begin(), row.from_library.end(), true)))}});
 }
 
 void PrintHeader() {
@@ -138,6 +146,7 @@ ExploreRow RunOne(const std::string& name, const WorldChoice& world, const Occup
   row.summary = run.Summary();
   row.map_psi = BuiltMapSimilarity(run.slam().filter().best().map, truth);
   for (const auto& cells : AcceptedCellsInWorld(run)) row.psi_truth.push_back(PredictionSimilarity(cells, truth));
+  for (const Hypothesis& h : run.accepted_hypotheses()) row.from_library.push_back(!h.reference_map.empty());
   const JudgeAgreement agreement = CountJudgedAsTruth(run, row.psi_truth);
   row.judged = agreement.judged;
   row.judged_as_truth = agreement.as_truth;
@@ -159,6 +168,9 @@ ExploreRow RunOne(const std::string& name, const WorldChoice& world, const Occup
 struct ExplorePair {
   ExploreRow full, skip;
   EqualCoverageSaving saving;
+  // With --library: 'skip' used the library, and this run did not.
+  std::optional<ExploreRow> skip_alone;
+  EqualCoverageSaving saving_alone;
   bool time_limit = false;  // either run hit the time limit: listed, never averaged as finished
   // Full coverage ended short of kCompleteCoverage (it gave its targets up): nothing to time against.
   bool full_incomplete = false;
@@ -189,6 +201,22 @@ void PrintPair(const ExplorePair& p) {
               flags.empty() ? "-" : flags.c_str());
 }
 
+// The library's hypotheses of a skip run: how many, and their mean Psi against the true world.
+void PrintLibraryLine(const ExploreRow& row) {
+  std::vector<double> psi_library, psi_built;
+  for (std::size_t i = 0; i < row.psi_truth.size() && i < row.from_library.size(); ++i) {
+    (row.from_library[i] ? psi_library : psi_built).push_back(row.psi_truth[i]);
+  }
+  std::printf("  %s: %zu hypotheses from the library (Psi vs truth %.3f), %zu from the built map (%.3f)\n",
+              row.name.c_str(), psi_library.size(), FiniteMean(psi_library), psi_built.size(), FiniteMean(psi_built));
+}
+
+MapLibrary LoadLibrary(const std::vector<std::string>& paths, const PredictorOptions& options) {
+  MapLibrary library;
+  for (const std::string& path : paths) library.push_back(MakeLibraryMap(path, LoadMap(path), options));
+  return library;
+}
+
 }  // namespace
 
 int RunExploreExperiment(CliArgs& cli) {
@@ -204,6 +232,7 @@ int RunExploreExperiment(CliArgs& cli) {
   const double tolerance = cli.Double("--coverage-tolerance", 0.02);
   const std::optional<std::string> json_path = cli.Value("--json");
   const std::optional<std::string> save_prefix = cli.Value("--save");
+  const std::vector<std::string> library_paths = cli.Values("--library");
   ProgressLine progress(ProgressWanted(cli));
   if (help) {
     std::printf("%s%s%s", kUsage, kGeneratedWorldsUsage, kExplorationFlagsUsage);
@@ -217,6 +246,12 @@ int RunExploreExperiment(CliArgs& cli) {
     return 2;
   }
   try {
+    const MapLibrary library = LoadLibrary(library_paths, options.slam.predictor);
+    if (library.size() > static_cast<std::size_t>(options.slam.predictor.max_library_maps)) {
+      std::fprintf(stderr, "pslam experiment explore: at most %d library maps are searched\n",
+                   options.slam.predictor.max_library_maps);
+      return 2;
+    }
     const std::uint64_t first_seed = options.slam.filter.seed;
     std::printf("%zu world(s), %d particles, similarity threshold %.2f, %d run(s) each, time limit %.0f s\n",
                 worlds.size(), options.slam.filter.particles, options.slam.predictor.similarity_threshold, runs,
@@ -242,15 +277,24 @@ int RunExploreExperiment(CliArgs& cli) {
         ExplorationOptions skip = seeded;
         skip.slam.predict = true;
         skip.explore.mode = pslam_mode == "full" ? ExploreMode::kFullCoverage : ExploreMode::kSkipPredicted;
-        pair.skip = RunOne(pslam_mode == "full" ? "P-SLAM, full coverage" : "P-SLAM, skip predicted", world, truth,
-                           reachable, skip, progress, prefix.empty() ? "" : prefix + "_skip");
+        const std::string skip_name = pslam_mode == "full" ? "P-SLAM, full coverage" : "P-SLAM, skip predicted";
+        if (!library.empty()) {
+          pair.skip_alone = RunOne(skip_name, world, truth, reachable, skip, progress,
+                                   prefix.empty() ? "" : prefix + "_skip_alone");
+          pair.saving_alone = CompareAtEqualCoverage(pair.full.coverage, pair.skip_alone->coverage, tolerance);
+          skip.slam.library = library;
+        }
+        pair.skip = RunOne(library.empty() ? skip_name : skip_name + ", library", world, truth, reachable, skip,
+                           progress, prefix.empty() ? "" : prefix + "_skip");
         pair.saving = CompareAtEqualCoverage(pair.full.coverage, pair.skip.coverage, tolerance);
         pair.time_limit = pair.full.summary.state == ExplorationState::kTimeLimit ||
                           pair.skip.summary.state == ExplorationState::kTimeLimit;
         pair.full_incomplete = pair.full.mapped_or_predicted < kCompleteCoverage;
         PrintHeader();
         PrintRow(pair.full);
+        if (pair.skip_alone) PrintRow(*pair.skip_alone);
         PrintRow(pair.skip);
+        if (!library.empty()) PrintLibraryLine(pair.skip);
         std::fflush(stdout);  // a population run takes hours: each pair shows as soon as it is done
         pairs.push_back(std::move(pair));
       }
@@ -260,6 +304,16 @@ int RunExploreExperiment(CliArgs& cli) {
                 "equal_at = full's final coverage - %.2f, reached by full / skip at the times given\n", tolerance);
     PrintPairHeader();
     for (const ExplorePair& p : pairs) PrintPair(p);
+    if (!library.empty()) {
+      std::printf("\nthe same pairs, P-SLAM without the library:\n");
+      PrintPairHeader();
+      for (const ExplorePair& p : pairs) {
+        ExplorePair alone = p;
+        alone.skip = *p.skip_alone;
+        alone.saving = p.saving_alone;
+        PrintPair(alone);
+      }
+    }
 
     // Population figures. Time figures only over pairs where neither run hit the time limit.
     std::vector<double> saved, equal_full, equal_skip, end_full, end_skip, merged_psi, hypothesis_psi, per_run_psi,
@@ -336,7 +390,10 @@ int RunExploreExperiment(CliArgs& cli) {
                                    {"skip_reached_equal_coverage", p.saving.skip_reached ? "true" : "false"},
                                    {"saved_fraction", JsonNumber(p.saving.saved_fraction)},
                                    {"time_limit_hit", p.time_limit ? "true" : "false"},
-                                   {"full_incomplete", p.full_incomplete ? "true" : "false"}}));
+                                   {"full_incomplete", p.full_incomplete ? "true" : "false"},
+                                   {"skip_without_library", p.skip_alone ? RowJson(*p.skip_alone) : "null"},
+                                   {"saved_fraction_without_library",
+                                    p.skip_alone ? JsonNumber(p.saving_alone.saved_fraction) : "null"}}));
       }
       std::vector<std::string> world_names;
       for (const WorldChoice& w : worlds) world_names.push_back(JsonString(w.path));
@@ -352,6 +409,11 @@ int RunExploreExperiment(CliArgs& cli) {
                                 {"plan_on_merged_map", options.plan_on_merged_map ? "true" : "false"},
                                 {"area_known", unbounded ? "false" : "true"},
                                 {"pslam_mode", JsonString(pslam_mode)},
+                                {"library", JsonArray([&] {
+                                   std::vector<std::string> names;
+                                   for (const std::string& path : library_paths) names.push_back(JsonString(path));
+                                   return names;
+                                 }())},
                                 {"time_limit_s", JsonNumber(options.time_limit_s)},
                                 {"coverage_tolerance", JsonNumber(tolerance)},
                                 {"time_limit_pairs", JsonNumber(time_limit_pairs)},
