@@ -86,6 +86,17 @@ describe('decodeLiveMessage', () => {
     expect(d.value.target?.path.length).toBe(3);
   });
 
+  it('keeps the site map a hypothesis took its reference from', () => {
+    const fromSite = { ...hypothesisAdded, hypothesis: { ...hypothesisAdded.hypothesis, reference_map: { site: 'site-1', version: 2 } } };
+    const d = decodeLiveMessage(fromSite);
+    expect(d.ok && d.value.type === 'hypothesis' && 'reference_map' in d.value.hypothesis && d.value.hypothesis.reference_map).toEqual({
+      site: 'site-1',
+      version: 2,
+    });
+    const own = decodeLiveMessage({ ...hypothesisAdded, hypothesis: { ...hypothesisAdded.hypothesis, reference_map: null } });
+    expect(own.ok && own.value.type === 'hypothesis' && 'reference_map' in own.value.hypothesis && own.value.hypothesis.reference_map).toBeNull();
+  });
+
   it('accepts every delta message type', () => {
     const messages = [
       { type: 'pose', x: 1, y: 2, theta: 0.1 },

@@ -16,6 +16,8 @@ export interface Hypothesis {
   time: number;
   target_cell: XY;
   reference_cell: XY;
+  // The site map the reference came from; absent or null: the session's own map.
+  reference_map?: { site: string; version: number } | null;
   theta: number;
   translation: XY;
   psi: number;
@@ -204,6 +206,10 @@ function normaliseHypothesis(v: Record<string, unknown>): Hypothesis {
     time: num(v.time),
     target_cell: v.target_cell as XY,
     reference_cell: isNumberArray(v.reference_cell, 2) ? (v.reference_cell as XY) : [0, 0],
+    reference_map:
+      isObject(v.reference_map) && typeof v.reference_map.site === 'string' && typeof v.reference_map.version === 'number'
+        ? { site: v.reference_map.site, version: v.reference_map.version }
+        : null,
     theta: num(v.theta),
     translation: isNumberArray(v.translation, 2) ? (v.translation as XY) : [0, 0],
     psi: num(v.psi),

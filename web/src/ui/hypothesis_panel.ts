@@ -124,7 +124,8 @@ export class HypothesisPanel {
       ['status', hy.status],
       ['area', `${hy.area.toFixed(1)} m² (${hy.cell_count} cells)`],
       ['target', `(${((hy.target_cell[0] + 0.5) * res).toFixed(2)}, ${((hy.target_cell[1] + 0.5) * res).toFixed(2)}) m`],
-      ['reference', `(${((hy.reference_cell[0] + 0.5) * res).toFixed(2)}, ${((hy.reference_cell[1] + 0.5) * res).toFixed(2)}) m`],
+      ['reference', `(${((hy.reference_cell[0] + 0.5) * res).toFixed(2)}, ${((hy.reference_cell[1] + 0.5) * res).toFixed(2)}) m` +
+        (hy.reference_map ? ` in ${hy.reference_map.site} version ${hy.reference_map.version}` : '')],
       ['rotation', `${((hy.theta * 180) / Math.PI).toFixed(1)}°`],
       ['translation', `(${hy.translation[0].toFixed(2)}, ${hy.translation[1].toFixed(2)}) m`],
       // Input times may be simulated (running faster than real time): shown as time into the run.
