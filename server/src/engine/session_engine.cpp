@@ -18,13 +18,13 @@ SteadyTime::duration SessionEngine::StatsPeriod() const {
 }
 
 SessionEngine::SessionEngine(std::string session_id, SessionSettings settings, LaserGeometry laser,
-                             EngineTiming timing, EngineSinks sinks, std::shared_ptr<const OccupancyGrid> fixed_map)
+                             EngineTiming timing, EngineSinks sinks, SiteMaps site_maps)
     : session_id_(std::move(session_id)),
       settings_(std::move(settings)),
       laser_(laser),
       timing_(timing),
       sinks_(std::move(sinks)),
-      fixed_map_(std::move(fixed_map)) {}
+      site_maps_(std::move(site_maps)) {}
 
 SessionEngine::~SessionEngine() {
   Join(StopMode::kAbort);
@@ -98,7 +98,7 @@ void SessionEngine::Loop(BacklogReader backlog, std::int64_t backlog_until) {
         plan_ready_ = true;
       }
       wake_.notify_one();
-    }, std::move(fixed_map_));
+    }, std::move(site_maps_.fixed_map), std::move(site_maps_.library));
     last_checkpoint_ = SteadyNow();
     live_tokens_.emplace(1.0 / timing_.live_period_seconds, timing_.live_burst, last_checkpoint_);
     // Rebuild: the stored inputs of a resumed session, straight from the database.

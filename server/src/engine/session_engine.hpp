@@ -53,9 +53,10 @@ using BacklogReader = std::function<std::vector<InputRecord>(std::int64_t after_
 
 class SessionEngine {
  public:
-  // 'fixed_map': the site's map, for a session in localize mode (settings.mode).
+  // 'site_maps': the site's map, for a session in localize mode (settings.mode), and the site's
+  // maps its predictor searches in map mode (SlamPipeline).
   SessionEngine(std::string session_id, SessionSettings settings, LaserGeometry laser, EngineTiming timing,
-                EngineSinks sinks, std::shared_ptr<const OccupancyGrid> fixed_map = nullptr);
+                EngineSinks sinks, SiteMaps site_maps = {});
   ~SessionEngine();
   SessionEngine(const SessionEngine&) = delete;
   SessionEngine& operator=(const SessionEngine&) = delete;
@@ -117,7 +118,7 @@ class SessionEngine {
   const LaserGeometry laser_;
   const EngineTiming timing_;
   EngineSinks sinks_;
-  std::shared_ptr<const OccupancyGrid> fixed_map_;  // handed to the pipeline when it is built
+  SiteMaps site_maps_;  // handed to the pipeline when it is built
 
   // Engine thread only.
   std::unique_ptr<SlamPipeline> pipeline_;

@@ -9,6 +9,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace pslam::server {
 namespace {
@@ -87,11 +88,22 @@ PSlamOptions ToPSlamOptions(const SessionSettings& settings) {
   return o;
 }
 
+namespace {
+
+PSlamOptions WithLibrary(PSlamOptions options, const SessionSettings& settings,
+                         const std::vector<SiteLibraryMap>& library) {
+  if (settings.mode == "map" && options.predict) options.library = BuildMapLibrary(library, options.predictor);
+  return options;
+}
+
+}  // namespace
+
 SlamPipeline::SlamPipeline(const SessionSettings& settings, const LaserGeometry& laser, std::function<void()> plan_ready,
-                           std::shared_ptr<const OccupancyGrid> fixed_map)
+                           std::shared_ptr<const OccupancyGrid> fixed_map, std::vector<SiteLibraryMap> library)
     : settings_(settings),
       laser_(laser),
-      slam_(std::make_unique<PSlam>(ToPSlamOptions(settings))),
+      library_(std::move(library)),
+      slam_(std::make_unique<PSlam>(WithLibrary(ToPSlamOptions(settings), settings, library_))),
       divergence_(settings.particles) {
   if (settings_.mode == "localize" || settings_.mode == "extend") {
     if (!fixed_map) throw std::invalid_argument(settings_.mode + " mode needs the site's map");
@@ -156,6 +168,9 @@ HypothesisRecord SlamPipeline::ToRecord(const Hypothesis& h) const {
   r.time = h.time;
   r.target_cell = {h.target_cell.x(), h.target_cell.y()};
   r.reference_cell = {h.reference_cell.x(), h.reference_cell.y()};
+  for (const SiteLibraryMap& m : library_) {
+    if (h.reference_map == LibraryMapId(m.site, m.version)) r.reference_map = SiteMapRef{m.site, m.version};
+  }
   r.theta = h.theta;
   r.translation_x = h.translation.x();
   r.translation_y = h.translation.y();

@@ -16,6 +16,7 @@
 
 #include "engine/exploration_planner.hpp"
 #include "engine/fixed_map_localization.hpp"
+#include "engine/site_library.hpp"
 #include "model/hypothesis.hpp"
 #include "model/input.hpp"
 #include "model/session_settings.hpp"
@@ -76,9 +77,10 @@ class SlamPipeline {
   // nothing; throws std::invalid_argument without one or for bad localization settings. In extend
   // mode it localizes on it the same way until the localizer says localized, then maps on from
   // there: every particle's map starts as the site's map (RbpfOptions::prior_map), the first scan
-  // at the localized pose.
+  // at the localized pose. In map mode 'library' (site_library.hpp) is searched by the predictor
+  // too; its features are extracted here.
   SlamPipeline(const SessionSettings& settings, const LaserGeometry& laser, std::function<void()> plan_ready = {},
-               std::shared_ptr<const OccupancyGrid> fixed_map = nullptr);
+               std::shared_ptr<const OccupancyGrid> fixed_map = nullptr, std::vector<SiteLibraryMap> library = {});
   SlamPipeline(const SlamPipeline&) = delete;
   SlamPipeline& operator=(const SlamPipeline&) = delete;
 
@@ -133,6 +135,7 @@ class SlamPipeline {
 
   SessionSettings settings_;
   LaserGeometry laser_;
+  std::vector<SiteLibraryMap> library_;           // what hypotheses' reference_map ids name
   std::unique_ptr<PSlam> slam_;                   // unused while localizing
   std::unique_ptr<FixedMapLocalization> localization_;  // localize mode; extend mode until localized
   std::vector<Pose2D> localized_trajectory_;      // extend mode: the estimates before mapping took over

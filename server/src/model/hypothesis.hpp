@@ -3,6 +3,7 @@
 // streams these without knowing how they were made.
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,11 +20,18 @@ struct PredictedCell {
 
 // One predicted structure: a known region (around 'reference_cell') registered onto the unexplored
 // region around 'target_cell' by a rotation 'theta' and a translation.
+// A stored map of a site: which one a hypothesis took its reference from.
+struct SiteMapRef {
+  std::string site;
+  std::int64_t version = 0;
+};
+
 struct HypothesisRecord {
   std::int64_t id = 0;              // unique within the session
   double time = 0.0;                // Unix seconds of the prediction (or of the last status change)
   GridCell target_cell;
-  GridCell reference_cell;
+  GridCell reference_cell;          // in the reference's map: the session's own, or reference_map
+  std::optional<SiteMapRef> reference_map;  // none: the session's own map
   double theta = 0.0;               // radians
   double translation_x = 0.0, translation_y = 0.0;  // metres
   double psi = 0.0;                 // registration score of the prediction

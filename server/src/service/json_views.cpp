@@ -40,6 +40,8 @@ nlohmann::json HypothesisToJson(const HypothesisRecord& h, bool with_cells) {
                       {"status", h.status},
                       {"hit_ratio", h.hit_ratio},
                       {"psi_observed", h.psi_observed}};
+  j["reference_map"] = h.reference_map ? nlohmann::json{{"site", h.reference_map->site}, {"version", h.reference_map->version}}
+                                       : nlohmann::json();
   if (with_cells) {
     nlohmann::json cells = nlohmann::json::array();
     for (const PredictedCell& c : h.cells) cells.push_back({c.x, c.y, c.occupancy});

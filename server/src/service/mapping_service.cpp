@@ -66,21 +66,23 @@ std::vector<std::string> MappingService::running_session_ids() const {
   return ids;
 }
 
-std::shared_ptr<const OccupancyGrid> MappingService::PrepareSite(SessionSettings& settings) {
-  if (settings.site.empty()) return nullptr;
+SiteMaps MappingService::PrepareSite(SessionSettings& settings) {
+  if (settings.site.empty()) return {};
   try {
     if (settings.mode == "map") {
-      auto lease = reads_.Acquire();
-      if (!SiteRepository(lease->repository().database()).GetSite(settings.site)) {
-        throw ApiError::NotFound("no site '" + settings.site + "'");
+      {
+        auto lease = reads_.Acquire();
+        if (!SiteRepository(lease->repository().database()).GetSite(settings.site)) {
+          throw ApiError::NotFound("no site '" + settings.site + "'");
+        }
       }
-      return nullptr;
+      return {nullptr, LoadSiteLibrary(reads_, settings.site, kSiteLibraryVersions)};
     }
     std::int64_t version = settings.map_version;
     auto map = LoadSiteMap(reads_, settings.site, version);
     settings.map_version = version;
     settings.resolution = map->resolution();
-    return map;
+    return {map, {}};
   } catch (const ApiError& e) {
     if (e.status() != 404) throw;
     throw ApiError::BadRequest(std::string("settings.site: ") + e.what());
@@ -89,8 +91,7 @@ std::shared_ptr<const OccupancyGrid> MappingService::PrepareSite(SessionSettings
 
 std::shared_ptr<SessionRuntime> MappingService::Launch(const SessionRow& row, const SessionSettings& settings,
                                                        const LaserGeometry& laser, std::int64_t stored_seq,
-                                                       std::shared_ptr<const OccupancyGrid> fixed_map,
-                                                       std::int64_t lease_epoch) {
+                                                       SiteMaps site_maps, std::int64_t lease_epoch) {
   auto rt = std::make_shared<SessionRuntime>();
   rt->id = row.id;
   rt->lease_epoch = lease_epoch;
@@ -146,7 +147,7 @@ std::shared_ptr<SessionRuntime> MappingService::Launch(const SessionRow& row, co
   SessionSettings engine_settings = settings;
   engine_settings.plan_targets = row.source == "agent";
   rt->engine = std::make_unique<SessionEngine>(row.id, engine_settings, laser, options_.timing, std::move(sinks),
-                                               std::move(fixed_map));
+                                               std::move(site_maps));
   {
     std::lock_guard lock(mutex_);
     ReapRetired();
@@ -239,11 +240,11 @@ std::shared_ptr<SessionRuntime> MappingService::ResumeStored(const SessionRow& r
   }
   SessionSettings settings;
   LaserGeometry laser;
-  std::shared_ptr<const OccupancyGrid> fixed_map;
+  SiteMaps site_maps;
   try {
     settings = ParseSessionSettings(ParseStoredJson(row.settings_json), options_.defaults, options_.limits);
     laser = ParseLaserGeometry(ParseStoredJson(row.laser_json), options_.limits);
-    fixed_map = PrepareSite(settings);
+    site_maps = PrepareSite(settings);
   } catch (const std::exception& e) {
     std::cerr << "session " << row.id << ": cannot resume (" << e.what() << "), marking it failed\n";
     writer_.Execute([&](SessionRepository& repo) {
@@ -255,7 +256,7 @@ std::shared_ptr<SessionRuntime> MappingService::ResumeStored(const SessionRow& r
   if (row.last_seq > 0) {
     writer_.Execute([&](SessionRepository& repo) { repo.SetRebuilds(row.id, attempts + 1, row.last_seq); });
   }
-  auto rt = Launch(row, settings, laser, row.last_seq, std::move(fixed_map), lease_epoch);
+  auto rt = Launch(row, settings, laser, row.last_seq, std::move(site_maps), lease_epoch);
   // A replay's feeder did not survive the restart: what it stored is mapped, then the session
   // closes. An agent's session waits for the agent to reconnect, unless told otherwise.
   const bool close = row.source == "replay" || !options_.resume_on_restart;
@@ -442,10 +443,10 @@ void MappingService::CreateForAgent(const HelloMessage& hello, const std::shared
     return;
   }
   SessionSettings settings;
-  std::shared_ptr<const OccupancyGrid> fixed_map;
+  SiteMaps site_maps;
   try {
     settings = ParseSessionSettings(hello.settings, options_.defaults, options_.limits, "hello.settings");
-    fixed_map = PrepareSite(settings);
+    site_maps = PrepareSite(settings);
   } catch (const ApiError& e) {
     done(AgentOpen::Failed(IngestError{"bad_message", e.what()}));
     return;
@@ -467,12 +468,12 @@ void MappingService::CreateForAgent(const HelloMessage& hello, const std::shared
         repo.AddEvent(row.id, "created", nlohmann::json{{"source", "agent"}, {"robot_id", row.robot_id}}.dump(),
                       row.created_at);
       },
-      [this, row, settings, laser, link, done, fixed_map, epoch](bool ok, const std::string& error) {
+      [this, row, settings, laser, link, done, site_maps, epoch](bool ok, const std::string& error) {
         if (!ok) {
           done(AgentOpen::Failed(IngestError{"storage_error", "cannot create the session: " + error}));
           return;
         }
-        auto rt = Launch(row, settings, laser, 0, fixed_map, *epoch);
+        auto rt = Launch(row, settings, laser, 0, site_maps, *epoch);
         {
           std::lock_guard lock(rt->mutex);
           rt->agent = link;
@@ -638,7 +639,7 @@ std::shared_ptr<SessionRuntime> MappingService::StartSession(SessionRow row, con
                                 " sessions");
   }
   SessionSettings settings = requested;
-  auto fixed_map = PrepareSite(settings);
+  SiteMaps site_maps = PrepareSite(settings);
   if (row.id.empty()) row.id = NewSessionId();
   row.status = "active";
   row.created_at = row.updated_at = UnixNow();
@@ -650,7 +651,7 @@ std::shared_ptr<SessionRuntime> MappingService::StartSession(SessionRow row, con
     if (cluster_) epoch = cluster_->AcquireIn(repo.database(), row.id);
     repo.AddEvent(row.id, "created", nlohmann::json{{"source", row.source}}.dump(), row.created_at);
   });
-  return Launch(row, settings, laser, 0, std::move(fixed_map), epoch);
+  return Launch(row, settings, laser, 0, std::move(site_maps), epoch);
 }
 
 SessionRow MappingService::GetSession(const std::string& id) {

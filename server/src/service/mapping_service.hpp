@@ -175,11 +175,12 @@ class MappingService {
   void StopWithoutCheckpoint(SessionRuntime& rt, const std::string& code, const std::string& why);
   // Checks the site a session names and, in localize mode, loads the site's map (its latest version
   // unless the settings name one; the settings then name the version loaded and take its
-  // resolution). Throws ApiError 400 for a missing site or map.
-  std::shared_ptr<const OccupancyGrid> PrepareSite(SessionSettings& settings);
+  // resolution); in map mode, the site's latest kSiteLibraryVersions maps for the predictor.
+  // Throws ApiError 400 for a missing site or map.
+  SiteMaps PrepareSite(SessionSettings& settings);
   std::shared_ptr<SessionRuntime> Launch(const SessionRow& row, const SessionSettings& settings,
-                                         const LaserGeometry& laser, std::int64_t stored_seq,
-                                         std::shared_ptr<const OccupancyGrid> fixed_map, std::int64_t lease_epoch = 0);
+                                         const LaserGeometry& laser, std::int64_t stored_seq, SiteMaps site_maps,
+                                         std::int64_t lease_epoch = 0);
   void OnCommitted(const std::weak_ptr<SessionRuntime>& weak, std::int64_t seq, bool ok, const std::string& error,
                    const std::shared_ptr<InputRecord>& input, SteadyTime received);
   void OnProgress(const std::weak_ptr<SessionRuntime>& weak, std::int64_t processed);

@@ -55,4 +55,22 @@ std::shared_ptr<const OccupancyGrid> LoadSiteMap(ReadPool& reads, const std::str
   return std::make_shared<const OccupancyGrid>(ParseMap(row->yaml, row->pgm, site_id + " version " + std::to_string(version)));
 }
 
+std::vector<SiteLibraryMap> LoadSiteLibrary(ReadPool& reads, const std::string& site_id, int count) {
+  std::vector<SiteMapRow> rows;
+  {
+    auto lease = reads.Acquire();
+    SiteRepository sites(lease->repository().database());
+    for (const SiteMapRow& listed : sites.ListMapVersions(site_id)) {
+      if (static_cast<int>(rows.size()) >= count) break;
+      if (auto row = sites.GetMapVersion(site_id, listed.version)) rows.push_back(std::move(*row));
+    }
+  }
+  std::vector<SiteLibraryMap> library;
+  for (const SiteMapRow& row : rows) {
+    const std::string name = site_id + " version " + std::to_string(row.version);
+    library.push_back({site_id, row.version, std::make_shared<const OccupancyGrid>(ParseMap(row.yaml, row.pgm, name))});
+  }
+  return library;
+}
+
 }  // namespace pslam::server

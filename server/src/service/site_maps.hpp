@@ -5,6 +5,9 @@
 #include <memory>
 #include <string>
 
+#include <vector>
+
+#include "engine/site_library.hpp"
 #include "pslam/grid/occupancy_grid.hpp"
 #include "storage/read_pool.hpp"
 #include "storage/records.hpp"
@@ -22,5 +25,8 @@ SiteMapRow SessionSiteMap(const std::string& session_id, const OccupancyGrid& ma
 // A stored version (0: the latest) as a grid; throws ApiError 404 for a missing site or version.
 // 'version' is set to the version loaded.
 std::shared_ptr<const OccupancyGrid> LoadSiteMap(ReadPool& reads, const std::string& site_id, std::int64_t& version);
+
+// The site's latest 'count' versions as grids, newest first (none for a site without maps).
+std::vector<SiteLibraryMap> LoadSiteLibrary(ReadPool& reads, const std::string& site_id, int count);
 
 }  // namespace pslam::server

@@ -138,7 +138,7 @@ SessionRow ReadSession(const Statement& s) {
 
 constexpr const char* kHypothesisColumns =
     "id, t, target_cx, target_cy, reference_cx, reference_cy, theta, translation_x, translation_y, psi, area, cells, "
-    "cell_count, status, hit_ratio, psi_observed";
+    "cell_count, status, hit_ratio, psi_observed, reference_site, reference_version";
 
 HypothesisRecord ReadHypothesis(const Statement& s) {
   HypothesisRecord h;
@@ -155,6 +155,7 @@ HypothesisRecord ReadHypothesis(const Statement& s) {
   h.status = s.Text(13);
   h.hit_ratio = s.Double(14);
   h.psi_observed = s.Double(15);
+  if (!s.IsNull(16)) h.reference_map = SiteMapRef{s.Text(16), s.Int64(17)};
   return h;
 }
 
@@ -346,18 +347,22 @@ void SessionRepository::UpsertHypothesis(const std::string& session_id, const Hy
   db_.Prepare(
          "INSERT INTO hypotheses (session_id, id, t, target_cx, target_cy, reference_cx, reference_cy, theta, "
          "translation_x, translation_y, psi, area, cells, cell_count, min_x, min_y, max_x, max_y, status, hit_ratio, "
-         "psi_observed, updated_at) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) "
+         "psi_observed, updated_at, reference_site, reference_version) "
+         "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) "
          "ON CONFLICT (session_id, id) DO UPDATE SET t = excluded.t, target_cx = excluded.target_cx, "
          "target_cy = excluded.target_cy, reference_cx = excluded.reference_cx, reference_cy = excluded.reference_cy, "
          "theta = excluded.theta, translation_x = excluded.translation_x, translation_y = excluded.translation_y, "
          "psi = excluded.psi, area = excluded.area, cells = excluded.cells, cell_count = excluded.cell_count, "
          "min_x = excluded.min_x, min_y = excluded.min_y, max_x = excluded.max_x, max_y = excluded.max_y, "
          "status = excluded.status, hit_ratio = excluded.hit_ratio, psi_observed = excluded.psi_observed, "
-         "updated_at = excluded.updated_at")
+         "updated_at = excluded.updated_at, reference_site = excluded.reference_site, "
+         "reference_version = excluded.reference_version")
       .BindAll(session_id, h.id, h.time, h.target_cell.x, h.target_cell.y, h.reference_cell.x, h.reference_cell.y,
                h.theta, h.translation_x, h.translation_y, h.psi, h.area, std::span<const std::uint8_t>(CellsBlob(h.cells)),
                static_cast<std::int64_t>(h.cells.size()), min_x, min_y, max_x, max_y, h.status, h.hit_ratio,
-               h.psi_observed, now)
+               h.psi_observed, now,
+               h.reference_map ? std::optional<std::string>(h.reference_map->site) : std::nullopt,
+               h.reference_map ? std::optional<std::int64_t>(h.reference_map->version) : std::nullopt)
       .Run();
   if (status_changed) {
     db_.Prepare(
