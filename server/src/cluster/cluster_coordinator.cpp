@@ -4,6 +4,8 @@
 #include <iostream>
 #include <tuple>
 
+#include "storage/session_repository.hpp"
+
 namespace pslam::server {
 namespace {
 
@@ -14,6 +16,10 @@ std::chrono::duration<double> Seconds(double s) { return std::chrono::duration<d
 // A node's share of its capacity in use; a node at its maximum takes nothing more.
 double Fill(const NodeRow& n) {
   return static_cast<double>(n.running_sessions) / static_cast<double>(std::max<std::int64_t>(1, n.max_sessions));
+}
+
+[[noreturn]] void ThrowLeaseLost(const std::string& session_id) {
+  throw StorageError(std::string(kLeaseLost) + ": another node runs session " + session_id + " now");
 }
 
 }  // namespace
@@ -331,9 +337,12 @@ std::int64_t ClusterCoordinator::AcquireIn(Database& db, const std::string& sess
 }
 
 void ClusterCoordinator::CheckLeaseIn(Database& db, const std::string& session_id, std::int64_t epoch) const {
-  if (!ClusterRepository(db).HoldsLease(session_id, options_.node_id, epoch)) {
-    throw StorageError(std::string(kLeaseLost) + ": another node runs session " + session_id + " now");
-  }
+  if (!ClusterRepository(db).HoldsLease(session_id, options_.node_id, epoch)) ThrowLeaseLost(session_id);
+}
+
+void ClusterCoordinator::InsertInputIn(SessionRepository& repo, const std::string& session_id, std::int64_t epoch,
+                                       const InputRecord& input) const {
+  if (!repo.InsertInputFenced(session_id, input, LeaseFence{options_.node_id, epoch})) ThrowLeaseLost(session_id);
 }
 
 }  // namespace pslam::server

@@ -25,6 +25,9 @@
 
 namespace pslam::server {
 
+class SessionRepository;
+struct InputRecord;
+
 struct ClusterOptions {
   std::string node_id;
   std::string address;          // HOST:PORT where agents and viewers reach this node
@@ -112,6 +115,9 @@ class ClusterCoordinator {
   // Fences a write: throws StorageError(kLeaseLost) unless this node still holds the lease at
   // 'epoch'. The row lock it takes holds off a takeover until the caller's transaction ends.
   void CheckLeaseIn(Database& db, const std::string& session_id, std::int64_t epoch) const;
+  // Stores an input fenced the same way, in one statement (one round trip to the database).
+  void InsertInputIn(SessionRepository& repo, const std::string& session_id, std::int64_t epoch,
+                     const InputRecord& input) const;
 
   // Stops the thread: no more heartbeats, renewals or takeovers (a node shutting down).
   void Stop();

@@ -520,7 +520,7 @@ MappingService::AdmitResult MappingService::Admit(const std::shared_ptr<SessionR
   // connection of the agent takes over at this moment.
   const bool queued = writer_.Submit(
       [id = rt->id, shared, epoch = rt->lease_epoch, cluster = cluster_](SessionRepository& repo) {
-        if (cluster) cluster->CheckLeaseIn(repo.database(), id, epoch);
+        if (cluster) return cluster->InsertInputIn(repo, id, epoch, *shared);
         repo.InsertInput(id, *shared);
       },
       [this, weak, seq, shared, received](bool ok, const std::string& error) {

@@ -1,6 +1,7 @@
 // The PostgreSQL engine of storage/database.hpp, over libpq. Each statement runs as one
 // PQexecParams round trip with typed parameters (text for numbers, binary for blobs) and text
-// results; '?' placeholders become $1, $2, ... outside quoted text.
+// results; '?' placeholders become $1, $2, ... outside quoted text. BEGIN waits for the
+// transaction's first statement and goes with it in one round trip (libpq's pipeline mode).
 #include <libpq-fe.h>
 
 #include <cmath>
@@ -46,10 +47,41 @@ struct ResultDeleter {
 };
 using ResultPtr = std::unique_ptr<PGresult, ResultDeleter>;
 
+bool Succeeded(const PGresult* r) {
+  const ExecStatusType status = r ? PQresultStatus(r) : PGRES_FATAL_ERROR;
+  return status == PGRES_TUPLES_OK || status == PGRES_COMMAND_OK;
+}
+
+// A query's result in pipeline mode; the NULL that ends it is read too.
+ResultPtr NextResult(PGconn* conn) {
+  ResultPtr result(PQgetResult(conn));
+  while (PGresult* extra = PQgetResult(conn)) PQclear(extra);
+  return result;
+}
+
+// BEGIN and a transaction's first statement in one round trip. Returns the statement's result, or
+// BEGIN's if that failed (then the statement did not run).
+ResultPtr ExecAfterBegin(PGconn* conn, const char* sql, int n, const Oid* types, const char* const* values,
+                         const int* lengths, const int* formats) {
+  if (PQenterPipelineMode(conn) != 1) return nullptr;
+  const bool sent = PQsendQueryParams(conn, "BEGIN", 0, nullptr, nullptr, nullptr, nullptr, 0) == 1 &&
+                    PQsendQueryParams(conn, sql, n, types, values, lengths, formats, 0) == 1 &&
+                    PQpipelineSync(conn) == 1;
+  ResultPtr result;
+  if (sent) {
+    ResultPtr begin = NextResult(conn);
+    result = NextResult(conn);
+    ResultPtr sync(PQgetResult(conn));  // PGRES_PIPELINE_SYNC
+    if (!Succeeded(begin.get())) result = std::move(begin);
+  }
+  PQexitPipelineMode(conn);
+  return result;
+}
+
 class PostgresStatement final : public StatementEngine {
  public:
-  PostgresStatement(PGconn* conn, int& changes, std::string_view sql)
-      : conn_(conn), changes_(changes), sql_(Numbered(sql)) {}
+  PostgresStatement(PGconn* conn, int& changes, bool& begin_pending, std::string_view sql)
+      : conn_(conn), changes_(changes), begin_pending_(begin_pending), sql_(Numbered(sql)) {}
 
   void Bind(int index, std::int64_t value) override { Set(index, std::to_string(value), kInt8Oid, 0); }
   void Bind(int index, double value) override {
@@ -126,9 +158,13 @@ class PostgresStatement final : public StatementEngine {
       formats[i] = params_[i].format;
       types[i] = params_[i].type;
     }
-    result_.reset(PQexecParams(conn_, sql_.c_str(), n, types.data(), values.data(), lengths.data(), formats.data(), 0));
-    const ExecStatusType status = result_ ? PQresultStatus(result_.get()) : PGRES_FATAL_ERROR;
-    if (status != PGRES_TUPLES_OK && status != PGRES_COMMAND_OK) {
+    if (begin_pending_) {
+      begin_pending_ = false;
+      result_ = ExecAfterBegin(conn_, sql_.c_str(), n, types.data(), values.data(), lengths.data(), formats.data());
+    } else {
+      result_.reset(PQexecParams(conn_, sql_.c_str(), n, types.data(), values.data(), lengths.data(), formats.data(), 0));
+    }
+    if (!Succeeded(result_.get())) {
       const std::string message = ErrorOf(conn_, result_.get());
       result_.reset();
       throw StorageError("'" + sql_.substr(0, 80) + "': " + message);
@@ -139,6 +175,7 @@ class PostgresStatement final : public StatementEngine {
 
   PGconn* conn_;
   int& changes_;
+  bool& begin_pending_;
   std::string sql_;
   std::vector<Param> params_;
   ResultPtr result_;
@@ -154,28 +191,37 @@ class PostgresDatabase final : public DatabaseEngine {
 
   StorageKind kind() const override { return StorageKind::kPostgres; }
   void Exec(std::string_view sql) override {
-    const std::string text(sql);
+    if (sql == "BEGIN") {
+      begin_pending_ = true;  // sent with the first statement
+      return;
+    }
+    if (begin_pending_ && (sql == "COMMIT" || sql == "ROLLBACK")) {
+      begin_pending_ = false;  // nothing ran: nothing to end
+      return;
+    }
+    // Several statements in one PQexec run in one round trip.
+    const std::string text = begin_pending_ ? "BEGIN; " + std::string(sql) : std::string(sql);
+    begin_pending_ = false;
     ResultPtr result(PQexec(conn_, text.c_str()));
-    const ExecStatusType status = result ? PQresultStatus(result.get()) : PGRES_FATAL_ERROR;
-    if (status != PGRES_COMMAND_OK && status != PGRES_TUPLES_OK) {
+    if (!Succeeded(result.get())) {
       throw StorageError("exec '" + text.substr(0, 80) + "': " + ErrorOf(conn_, result.get()));
     }
   }
   std::unique_ptr<StatementEngine> Prepare(std::string_view sql) override {
-    return std::make_unique<PostgresStatement>(conn_, changes_, sql);
+    return std::make_unique<PostgresStatement>(conn_, changes_, begin_pending_, sql);
   }
   int Changes() const override { return changes_; }
   const char* BeginSql() const override { return "BEGIN"; }
   int SchemaVersion() override {
     CreateVersionTable();
-    PostgresStatement s(conn_, changes_, "SELECT COALESCE(MAX(version), 0) FROM schema_version");
+    PostgresStatement s(conn_, changes_, begin_pending_, "SELECT COALESCE(MAX(version), 0) FROM schema_version");
     s.Step();
     return static_cast<int>(s.Int64(0));
   }
   void SetSchemaVersion(int version) override {
     CreateVersionTable();
     Exec("DELETE FROM schema_version");
-    PostgresStatement s(conn_, changes_, "INSERT INTO schema_version (version) VALUES (?)");
+    PostgresStatement s(conn_, changes_, begin_pending_, "INSERT INTO schema_version (version) VALUES (?)");
     s.Bind(1, static_cast<std::int64_t>(version));
     s.Step();
   }
@@ -185,6 +231,7 @@ class PostgresDatabase final : public DatabaseEngine {
 
   PGconn* conn_;
   int changes_ = 0;
+  bool begin_pending_ = false;  // BEGIN was asked for and not sent yet
 };
 
 void IgnoreNotice(void*, const char*) {}  // "relation already exists, skipping" and the like

@@ -226,22 +226,49 @@ void SessionRepository::SetMetrics(const std::string& id, const std::string& met
   db_.Prepare("UPDATE sessions SET metrics_json = ? WHERE id = ?").BindAll(metrics_json, id).Run();
 }
 
-void SessionRepository::InsertInput(const std::string& session_id, const InputRecord& in) {
-  Statement s = db_.Prepare(
-      "INSERT INTO inputs (session_id, seq, kind, t, x, y, theta, v, w, ranges, stamp) "
-      "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) ON CONFLICT DO NOTHING");
-  s.BindAll(session_id, in.seq, static_cast<int>(in.kind), in.t, in.x, in.y, in.theta, in.v, in.w);
+namespace {
+
+constexpr const char* kInputColumns = "session_id, seq, kind, t, x, y, theta, v, w, ranges, stamp";
+
+// Binds an input's eleven values from parameter 'first' on.
+void BindInput(Statement& s, int first, const std::string& session_id, const InputRecord& in) {
+  const int o = first - 1;
+  s.Bind(o + 1, session_id).Bind(o + 2, in.seq).Bind(o + 3, static_cast<int>(in.kind)).Bind(o + 4, in.t);
+  s.Bind(o + 5, in.x).Bind(o + 6, in.y).Bind(o + 7, in.theta).Bind(o + 8, in.v).Bind(o + 9, in.w);
   if (in.kind == InputKind::kScan) {
-    s.Bind(10, std::span<const std::uint8_t>(RangesBlob(in.ranges)));
+    s.Bind(o + 10, std::span<const std::uint8_t>(RangesBlob(in.ranges)));
   } else {
-    s.Bind(10, nullptr);
+    s.Bind(o + 10, nullptr);
   }
   if (in.stamp.empty()) {
-    s.Bind(11, nullptr);
+    s.Bind(o + 11, nullptr);
   } else {
-    s.Bind(11, in.stamp);
+    s.Bind(o + 11, in.stamp);
   }
+}
+
+}  // namespace
+
+void SessionRepository::InsertInput(const std::string& session_id, const InputRecord& in) {
+  Statement s = db_.Prepare(std::string("INSERT INTO inputs (") + kInputColumns +
+                            ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?) ON CONFLICT DO NOTHING");
+  BindInput(s, 1, session_id, in);
   s.Run();
+}
+
+bool SessionRepository::InsertInputFenced(const std::string& session_id, const InputRecord& in,
+                                          const LeaseFence& fence) {
+  // The insert reads the locked lease row: no lease, no row to insert.
+  Statement s = db_.Prepare(
+      std::string("WITH fence AS (SELECT 1 FROM session_leases WHERE session_id = ? AND node_id = ? AND epoch = ? "
+                  "FOR SHARE), stored AS (INSERT INTO inputs (") +
+      kInputColumns +
+      ") SELECT ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ? FROM fence ON CONFLICT DO NOTHING RETURNING 1) "
+      "SELECT COUNT(*) FROM fence");
+  s.BindAll(session_id, fence.node_id, fence.epoch);
+  BindInput(s, 4, session_id, in);
+  s.Step();
+  return s.Int64(0) > 0;
 }
 
 std::int64_t SessionRepository::LastInputSeq(const std::string& session_id) {

@@ -12,6 +12,13 @@
 
 namespace pslam::server {
 
+// A fleet node's lease on a session at one epoch (session_leases): writes fenced by it fail once
+// another node has taken the session over.
+struct LeaseFence {
+  std::string node_id;
+  std::int64_t epoch = 0;
+};
+
 class SessionRepository {
  public:
   explicit SessionRepository(Database& db) : db_(db) {}
@@ -33,6 +40,10 @@ class SessionRepository {
 
   // Raw inputs. InsertInput ignores a seq that is already stored (a resend): exactly once.
   void InsertInput(const std::string& session_id, const InputRecord& input);
+  // The same, fenced by a fleet lease (PostgreSQL only) in the same statement, so an input costs
+  // one round trip: stores nothing and returns false unless 'fence' still holds the session's
+  // lease, whose row stays locked (FOR SHARE) until the transaction ends.
+  bool InsertInputFenced(const std::string& session_id, const InputRecord& input, const LeaseFence& fence);
   std::int64_t LastInputSeq(const std::string& session_id);
   std::int64_t CountScans(const std::string& session_id);
   // Inputs with seq > 'after_seq', in order, at most 'limit'.
