@@ -89,6 +89,7 @@ Result<std::unique_ptr<App>> App::Create(ServerOptions options) {
     };
     hooks.lost = [mapping](const std::string& id) { mapping->Abandon(id); };
     hooks.adopt = [mapping](const std::string& id, std::int64_t epoch) { mapping->Adopt(id, epoch); };
+    hooks.hand_over = [mapping](const std::string& id) { return mapping->HandOver(id); };
     // Nothing runs yet, so the first takeover check (after one tick) finds this node idle.
     auto coordinator = ClusterCoordinator::Start(cluster, *o.postgres_url, std::move(hooks));
     if (!coordinator) return Error{coordinator.error()};

@@ -1,7 +1,8 @@
 // A fleet of real pslam-server nodes on one real PostgreSQL server (started by the ctest fixture on
 // loopback): new sessions placed on the least loaded node with the agent following the redirect, a
 // node killed with SIGKILL mid-stream and its session taken over by another node once the lease
-// expires, with every scan filtered exactly once and only one node ever running the session.
+// expires, with every scan filtered exactly once and only one node ever running the session; a node
+// that joins late is handed one of a crowded node's sessions, again with every scan filtered once.
 #ifdef PSLAM_SERVER_BINARY
 
 #include <gtest/gtest.h>
@@ -178,6 +179,62 @@ TEST(FleetTest, NodeKilledMidStreamItsSessionMovesAndEveryScanIsFilteredOnce) {
   std::this_thread::sleep_for(std::chrono::seconds(3));  // over a lease: time for a wrong takeover
   EXPECT_EQ(GetJson(a_again.port(), "/api/health")["running_sessions"], 0);
   EXPECT_EQ(GetJson(a_again.port(), "/api/sessions/" + session)["status"], "closed");
+}
+
+TEST(FleetTest, NodeJoiningLateIsHandedASessionAndEveryScanIsFilteredOnce) {
+  PSLAM_REQUIRE_DATA(log, "intel/intel.clf");
+  TempDir dir;
+  TestPostgresDatabase db;
+  ServerProcess a(dir.path() / "a", NodeArgs(db, "node-a"));
+
+  // Two robots on node A, which alone runs both; they know only node A.
+  constexpr std::size_t kScans = 400;
+  std::vector<std::unique_ptr<Agent>> agents;
+  std::vector<int> exit_codes(2, -1);
+  std::atomic<bool> stop{false};
+  std::vector<std::thread> runners;
+  struct JoinAtExit {
+    std::atomic<bool>& stop;
+    std::vector<std::thread>& threads;
+    ~JoinAtExit() {
+      stop = true;
+      for (auto& t : threads) {
+        if (t.joinable()) t.join();
+      }
+    }
+  } join_at_exit{stop, runners};
+  for (int i = 0; i < 2; ++i) {
+    AgentOptions o = SimOptions(Address(a), dir.path() / ("spool" + std::to_string(i)));
+    o.source = SourceKind::kLog;
+    o.rate = 10.0;
+    agents.push_back(std::make_unique<Agent>(o, std::make_unique<LogSource>(LogSourceOptions{log.string(), o.rate, kScans})));
+    runners.emplace_back([&, i, agent = agents.back().get()] { exit_codes[i] = agent->Run(stop); });
+  }
+  ASSERT_TRUE(WaitFor([&] { return SessionsByNode(a.port())["node-a"].size() == 2; }, 20.0));
+  ASSERT_TRUE(WaitFor([&] { return agents[0]->link_status().acked_wire_seq > 20 && agents[1]->link_status().acked_wire_seq > 20; }, 20.0));
+
+  // Node B joins: node A, two sessions ahead, hands it one.
+  ServerProcess b(dir.path() / "b", NodeArgs(db, "node-b"));
+  ASSERT_TRUE(WaitFor([&] { return SessionsByNode(a.port())["node-b"].size() == 1; }, 20.0))
+      << GetJson(a.port(), "/api/cluster").dump();
+  const auto sessions = SessionsByNode(b.port());
+  EXPECT_EQ(sessions.at("node-a").size(), 1u);
+
+  const bool finished = WaitFor([&] { return exit_codes[0] != -1 && exit_codes[1] != -1; }, 120.0);
+  if (!finished) stop = true;
+  for (auto& t : runners) t.join();
+  ASSERT_TRUE(finished) << "the agents did not get everything acknowledged";
+  // Both finished and closed, each scan filtered once, the moved one too (rebuilt on node B).
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(exit_codes[i], kExitOk);
+    const LinkStatus link = agents[i]->link_status();
+    const auto row = GetJson(b.port(), "/api/sessions/" + link.session_id);
+    EXPECT_EQ(row["status"], "closed");
+    EXPECT_EQ(row["last_seq"].get<std::uint64_t>(), link.acked_wire_seq);
+    const auto stats = GetJson(b.port(), "/api/sessions/" + link.session_id + "/stats");
+    EXPECT_EQ(stats["filter"]["processed_seq"].get<std::uint64_t>(), link.acked_wire_seq) << "agent " << i;
+    EXPECT_EQ(stats["filter"]["scans"].get<std::uint64_t>(), kScans) << "agent " << i;  // none lost, none twice
+  }
 }
 
 }  // namespace

@@ -112,8 +112,9 @@ void ClusterCoordinator::Tick() {
   RenewOrFence();
   try {
     AdoptOrphans();
+    Rebalance();
   } catch (const std::exception& e) {
-    std::cerr << "cluster: takeover check failed: " << e.what() << "\n";
+    std::cerr << "cluster: takeover or rebalancing check failed: " << e.what() << "\n";
   }
 }
 
@@ -191,6 +192,7 @@ void ClusterCoordinator::AdoptOrphans() {
     {
       std::lock_guard lock(mutex_);
       if (owned_.count(id)) mine = true;  // ours, its lease row lost: take it back
+      if (handed_over_.count(id)) mine = false;  // just handed to another node: let it take it
       if (now - orphan_since_[id] > Seconds(2 * options_.lease_seconds)) mine = true;
     }
     if (target) const_cast<NodeRow*>(target)->running_sessions++;
@@ -284,6 +286,8 @@ Placement ClusterCoordinator::Claim(const std::string& session_id) {
                                   " stopped answering; the session moves when its lease expires in " +
                                   std::to_string(static_cast<int>(lease->expires_in + 1)) + " s");
   }
+  // Just handed over by rebalancing: its agent goes to the node taking it.
+  if (const auto to = HandedTo(session_id)) return Placement::Elsewhere(to->node_id, to->address);
   std::optional<std::int64_t> epoch;
   {
     std::lock_guard lock(db_mutex_);

@@ -81,6 +81,9 @@ class ClusterCoordinator {
     std::function<void(const std::string& session_id)> lost;
     // The node won the lease of a session nobody ran: rebuild and resume it.
     std::function<void(const std::string& session_id, std::int64_t epoch)> adopt;
+    // Rebalancing: stop running the session here with a checkpoint, every write of it committed,
+    // and tell its agent to reconnect; false if it no longer runs here. The lease goes after.
+    std::function<bool(const std::string& session_id)> hand_over;
   };
 
   // Connects, registers the node (so it is visible at once) and starts the thread.
@@ -134,6 +137,12 @@ class ClusterCoordinator {
   void Tick();
   void RenewOrFence();
   void AdoptOrphans();
+  // One session to a less loaded node, if this node is the fullest (cluster_rebalance.cpp).
+  void Rebalance();
+  std::optional<std::string> SessionToHandOver(std::chrono::steady_clock::time_point now);
+  void HandOver(const std::string& session_id, const NodeRow& to);
+  // The node a session was just handed to, while it should be taking the session over.
+  std::optional<NodeRow> HandedTo(const std::string& session_id);
   // Live nodes with this node's own load made current and recent placements counted.
   std::vector<NodeRow> LiveNodes();
   const NodeRow* LeastLoaded(const std::vector<NodeRow>& nodes) const;
@@ -153,6 +162,12 @@ class ClusterCoordinator {
   std::map<std::string, std::pair<int, std::chrono::steady_clock::time_point>> recent_placements_;
   std::map<std::string, std::chrono::steady_clock::time_point> orphan_since_;
   std::chrono::steady_clock::time_point last_renewal_;
+  // Rebalancing: since when each session has run here (first seen), the last hand-over, and where
+  // recent ones went (this node sends their agents there and does not take them back meanwhile).
+  std::map<std::string, std::chrono::steady_clock::time_point> held_since_;
+  std::chrono::steady_clock::time_point last_hand_over_;
+  std::map<std::string, std::pair<NodeRow, std::chrono::steady_clock::time_point>> handed_over_;
+  bool handing_over_ = false;
   bool stopping_ = false;
   std::thread ticker_, worker_;
 };

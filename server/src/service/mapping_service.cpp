@@ -412,6 +412,27 @@ void MappingService::Abandon(const std::string& id) {
   if (end_sink_) end_sink_(id, "moved");
 }
 
+bool MappingService::HandOver(const std::string& id) {
+  const auto rt = TakeRunning(id);
+  if (!rt) return false;
+  std::shared_ptr<AgentLink> agent;
+  {
+    std::lock_guard lock(rt->mutex);
+    rt->closing = true;
+    agent = rt->agent.lock();
+    rt->agent.reset();
+    rt->progress.notify_all();
+  }
+  rt->engine->Stop();  // after its current input, with a checkpoint, as at a shutdown
+  if (!rt->engine->failed()) writer_.Submit([id](SessionRepository& repo) { repo.SetRebuilds(id, 0); });
+  writer_.Execute([](SessionRepository&) {});  // all of it committed while the lease is still ours
+  LogEvent(id, "handed_over", {});
+  // Its reconnect is sent to the node taking it; unacknowledged inputs are resent there.
+  if (agent) agent->Disconnect("moved", "the session moves to a less loaded node; reconnect");
+  if (end_sink_) end_sink_(id, "moved");
+  return true;
+}
+
 void MappingService::StopWithoutCheckpoint(SessionRuntime& rt, const std::string& code, const std::string& why) {
   std::shared_ptr<AgentLink> agent;
   {

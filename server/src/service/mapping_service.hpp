@@ -68,6 +68,9 @@ class MappingService {
   // lost the lease of one it runs (the new owner rebuilds it; nothing is written here any more).
   void Adopt(const std::string& id, std::int64_t lease_epoch);
   void Abandon(const std::string& id);
+  // Rebalancing: stops the session here with a checkpoint, waits until everything it wrote is
+  // committed, and tells its agent to reconnect. False if it does not run here.
+  bool HandOver(const std::string& id);
   // At start-up: every session left active is rebuilt from its stored inputs and resumed (or,
   // with resume_on_restart off, closed once rebuilt). A session whose rebuild of the same stored
   // inputs began at kMaxRebuilds start-ups in a row without completing (it took the server down)
