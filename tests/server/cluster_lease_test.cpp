@@ -54,6 +54,13 @@ TEST_F(ClusterLeaseTest, ALeaseIsHeldByOneNodeUntilItExpires) {
   EXPECT_EQ(b.RenewLeases("node-b", 5.0), std::vector<std::string>{"s-1"});
 }
 
+InputRecord Odometry(std::int64_t seq) {
+  InputRecord in;
+  in.seq = seq;
+  in.kind = InputKind::kOdometry;
+  return in;
+}
+
 TEST_F(ClusterLeaseTest, AWriteOfTheNodeThatLostTheLeaseIsRefused) {
   ClusterCoordinator::Hooks hooks;
   hooks.load = [] { return NodeLoad{}; };
@@ -65,8 +72,10 @@ TEST_F(ClusterLeaseTest, AWriteOfTheNodeThatLostTheLeaseIsRefused) {
   node_a.Stop();  // no renewals from here on: its lease will expire
 
   Database db = Connect();
+  SessionRepository repo(db);  // session s-1 is the fixture's
   const std::int64_t epoch = node_a.AcquireIn(db, "s-1");
   EXPECT_NO_THROW(node_a.CheckLeaseIn(db, "s-1", epoch));
+  EXPECT_NO_THROW(node_a.InsertInputIn(repo, "s-1", epoch, Odometry(1)));
 
   std::this_thread::sleep_for(std::chrono::milliseconds(1100));
   Database b_db = Connect();
@@ -77,6 +86,14 @@ TEST_F(ClusterLeaseTest, AWriteOfTheNodeThatLostTheLeaseIsRefused) {
   } catch (const StorageError& e) {
     EXPECT_NE(std::string(e.what()).find(kLeaseLost), std::string::npos) << e.what();
   }
+  // An input's insert checks the lease itself: refused, and nothing stored.
+  try {
+    node_a.InsertInputIn(repo, "s-1", epoch, Odometry(2));
+    FAIL() << "node-a stored an input after losing the lease";
+  } catch (const StorageError& e) {
+    EXPECT_NE(std::string(e.what()).find(kLeaseLost), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(repo.LastInputSeq("s-1"), 1);
 }
 
 TEST_F(ClusterLeaseTest, AFencedWriteInProgressHoldsOffATakeoverUntilItCommits) {
