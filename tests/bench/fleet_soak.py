@@ -13,6 +13,7 @@ same id) for --minutes. Then every robot is stopped (it closes its session) and 
 Usage: tests/bench/fleet_soak.py [--nodes 3] [--robots 12] [--minutes 5] [--kill-every 30]
 """
 import argparse
+import collections
 import json
 import os
 import re
@@ -166,6 +167,12 @@ def main():
                 coordination["pg_bytes"] += sum(socket_bytes(n.proc.pid, pg_port))
                 coordination["redis_bytes"] += sum(socket_bytes(n.proc.pid, redis_port))
                 coordination["cpu_s"] += cpu_seconds(n.proc.pid)
+        # Where the sessions run at the end, and once rebalancing has had 30 s more.
+        for wait in (0, 30):
+            time.sleep(wait)
+            counts = collections.Counter(l["node_id"] for l in leases().values() if l["expires_in_seconds"] > 0)
+            print(f"sessions per node{f' {wait} s later' if wait else ' at the end'}: "
+                  + ", ".join(f"{n.name} {counts.get(n.name, 0)}" for n in nodes), flush=True)
         # Robots stop: each waits for its acks and closes its session.
         for r in robots:
             r.send_signal(signal.SIGINT)
