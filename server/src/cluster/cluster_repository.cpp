@@ -52,11 +52,22 @@ std::vector<NodeRow> ClusterRepository::Nodes(double alive_within) {
 }
 
 std::vector<std::string> ClusterRepository::RenewLeases(const std::string& node_id, double lease_seconds) {
-  auto s = db_.Prepare(WithNow(
-      "UPDATE session_leases SET expires_at = {now} + ? WHERE node_id = ? RETURNING session_id"));
-  s.BindAll(lease_seconds, node_id);
+  // One row per statement, each its own transaction: a renewal never holds one lease row while
+  // waiting for another. A single UPDATE of every row would, and with a writer's batch holding
+  // those rows FOR SHARE in another order the two deadlock.
+  std::vector<std::string> ids;
+  {
+    auto s = db_.Prepare("SELECT session_id FROM session_leases WHERE node_id = ?");
+    s.BindAll(node_id);
+    while (s.Step()) ids.push_back(s.Text(0));
+  }
   std::vector<std::string> held;
-  while (s.Step()) held.push_back(s.Text(0));
+  for (const std::string& id : ids) {
+    auto s = db_.Prepare(WithNow(
+        "UPDATE session_leases SET expires_at = {now} + ? WHERE session_id = ? AND node_id = ? RETURNING session_id"));
+    s.BindAll(lease_seconds, id, node_id);
+    if (s.Step()) held.push_back(s.Text(0));
+  }
   return held;
 }
 
