@@ -67,8 +67,11 @@ TEST(DescriptorExhaustionTest, AcceptBacksOffAndRecoversWhenConnectionsClose) {
   const double cpu = CpuSeconds(server.pid()) - cpu_before;
   std::cout << "[ measure  ] server CPU while out of descriptors: " << cpu << " s in 3 s\n";
   EXPECT_LT(cpu, 0.3) << "the accept loop spins";  // it spun at 0.7-1 s per second
-  // One line for the episode, not one per failed accept().
-  EXPECT_LE(CountLines(server.log_path(), "accept:"), 2u);
+  // A line when an episode starts and one when it ends, not one per failed accept() (about 7 in
+  // these 3.5 s with the back-off). A descriptor the server frees for a moment (a file it closes)
+  // may end an episode and start another: allow two.
+  EXPECT_LE(CountLines(server.log_path(), "pausing new connections"), 2u);
+  EXPECT_LE(CountLines(server.log_path(), "accept:"), 4u);
 
   clients.clear();  // the server sees them close and frees their descriptors
   bool healthy = false;

@@ -160,7 +160,7 @@ TEST(PoisonTest, FarJumpFailsOnlyItsSessionWithinTheMemoryLimitAndFreesItsSlot) 
     EXPECT_FALSE(Open(fourth, {{"particles", 4}}).empty());
     EXPECT_EQ(server.Stop(), 0);
   }
-  for (const std::vector<std::string> args : {std::vector<std::string>{}, std::vector<std::string>{"--on-restart", "close"}}) {
+  for (const std::vector<std::string>& args : {std::vector<std::string>{}, std::vector<std::string>{"--on-restart", "close"}}) {
     ServerProcess restarted(data, args);
     std::this_thread::sleep_for(std::chrono::seconds(1));
     for (const std::string& id : failed) {

@@ -552,7 +552,13 @@ MappingService::AdmitResult MappingService::Admit(const std::shared_ptr<SessionR
     return result;
   }
   rt->last_received = seq;
-  rt->last_pose = InputRecord{.seq = seq, .kind = shared->kind, .t = shared->t, .x = shared->x, .y = shared->y};
+  InputRecord pose;  // what the session's view needs of the input: no ranges
+  pose.seq = seq;
+  pose.kind = shared->kind;
+  pose.t = shared->t;
+  pose.x = shared->x;
+  pose.y = shared->y;
+  rt->last_pose = std::move(pose);
   result.expected_seq = seq + 1;
   return result;
 }
