@@ -33,17 +33,7 @@ std::vector<Segment> ChangedRoom() {
 
 void SendChangedScan(WsClient& ws, std::int64_t seq) {
   static const auto walls = ChangedRoom();
-  const Pose2D truth = PoseAt(seq);
-  const Pose2D odom = kOdomFrame * truth;
-  InputRecord in;
-  in.seq = seq;
-  in.kind = InputKind::kScan;
-  in.t = 1700000000.0 + 0.1 * static_cast<double>(seq);
-  in.x = odom.x;
-  in.y = odom.y;
-  in.theta = odom.theta;
-  in.ranges = ::pslam::testing::RenderScan(truth, walls, odom).ranges;
-  ws.SendJson(ScanJson(in));
+  ws.SendJson(ScanJson(ScanInput(seq, seq, walls, kOdomFrame)));
 }
 
 nlohmann::json WaitProcessed(unsigned short port, const std::string& id, std::int64_t seq) {

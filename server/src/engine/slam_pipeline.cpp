@@ -103,12 +103,13 @@ SlamPipeline::SlamPipeline(const SessionSettings& settings, const LaserGeometry&
     : settings_(settings),
       laser_(laser),
       library_(std::move(library)),
-      slam_(std::make_unique<PSlam>(WithLibrary(ToPSlamOptions(settings), settings, library_))),
       divergence_(settings.particles) {
   if (settings_.mode == "localize" || settings_.mode == "extend") {
     if (!fixed_map) throw std::invalid_argument(settings_.mode + " mode needs the site's map");
     localization_ = std::make_unique<FixedMapLocalization>(std::move(fixed_map), ToMclOptions(settings_),
                                                            settings_.initial_pose);
+  } else {
+    slam_ = std::make_unique<PSlam>(WithLibrary(ToPSlamOptions(settings), settings, library_));
   }
   if (settings_.plan_targets) planner_ = std::make_unique<ExplorationPlanner>(std::move(plan_ready));
 }

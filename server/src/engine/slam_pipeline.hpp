@@ -95,7 +95,7 @@ class SlamPipeline {
   const OccupancyGrid& map() const { return localization_ ? localization_->map() : slam_->filter().best().map; }
   bool started() const { return localization_ || !slam_->filter().particles().empty(); }
   const RbpfStats& filter_stats() const { return localization_ ? localization_->stats() : slam_->filter().stats(); }
-  PSlamStats pslam_stats() const { return slam_->stats(); }
+  PSlamStats pslam_stats() const { return slam_ ? slam_->stats() : PSlamStats{}; }
   int particle_count() const;
   std::vector<Pose2D> ParticlePoses() const;
   std::vector<double> Weights() const { return localization_ ? localization_->weights() : slam_->filter().Weights(); }
@@ -136,7 +136,7 @@ class SlamPipeline {
   SessionSettings settings_;
   LaserGeometry laser_;
   std::vector<SiteLibraryMap> library_;           // what hypotheses' reference_map ids name
-  std::unique_ptr<PSlam> slam_;                   // unused while localizing
+  std::unique_ptr<PSlam> slam_;                   // built when mapping starts
   std::unique_ptr<FixedMapLocalization> localization_;  // localize mode; extend mode until localized
   std::vector<Pose2D> localized_trajectory_;      // extend mode: the estimates before mapping took over
   DivergenceMonitor divergence_;

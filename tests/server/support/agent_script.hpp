@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "pslam/common/pose2d.hpp"
 #include "server/support/clients.hpp"
@@ -32,19 +33,26 @@ inline Pose2D PoseAt(std::int64_t i) {
   return Pose2D(x, -1.0 + 0.3 * std::sin(s * 0.5), 0.15 * std::sin(s));
 }
 
-inline InputRecord ScanInput(std::int64_t seq, std::int64_t step) {
-  static const auto walls = ::pslam::testing::RoomWalls();
-  const Pose2D pose = PoseAt(step);
-  const LaserScan scan = ::pslam::testing::RenderScan(pose, walls, pose);
+// Scan 'seq' of the robot at PoseAt(step) among 'walls' (the room's by default), with its odometry
+// read in a frame that is not the map's when 'odom_frame' is given: odometry = odom_frame * true pose.
+inline InputRecord ScanInput(std::int64_t seq, std::int64_t step, const std::vector<::pslam::testing::Segment>& walls,
+                             const Pose2D& odom_frame = Pose2D()) {
+  const Pose2D truth = PoseAt(step);
+  const Pose2D odom = odom_frame * truth;
   InputRecord in;
   in.seq = seq;
   in.kind = InputKind::kScan;
   in.t = 1700000000.0 + 0.1 * static_cast<double>(step);
-  in.x = pose.x;
-  in.y = pose.y;
-  in.theta = pose.theta;
-  in.ranges = scan.ranges;
+  in.x = odom.x;
+  in.y = odom.y;
+  in.theta = odom.theta;
+  in.ranges = ::pslam::testing::RenderScan(truth, walls, odom).ranges;
   return in;
+}
+
+inline InputRecord ScanInput(std::int64_t seq, std::int64_t step) {
+  static const auto walls = ::pslam::testing::RoomWalls();
+  return ScanInput(seq, step, walls);
 }
 
 inline nlohmann::json ScanJson(const InputRecord& in) {
