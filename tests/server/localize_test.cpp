@@ -146,6 +146,51 @@ TEST(LocalizeTest, APoseSetOverRestRelocalizesARobotStartedWrong) {
   EXPECT_EQ(Post(port, "/api/sessions/" + id + "/initial_pose", InitialPoseAt(PoseAt(1)).dump()).status, 409);  // closed
 }
 
+TEST(LocalizeTest, APoseSetOverRestIsAppliedAgainWhenTheSessionIsRebuilt) {
+  TempDir dir;
+  std::string site, id;
+  const nlohmann::json settings = {{"mode", "localize"},
+                                   {"initial_pose", InitialPoseAt(PoseAt(1) * Pose2D(0.0, 2.5, 0.0), 0.05)},
+                                   {"localization", {{"max_particles", 3000},
+                                                     {"recovery_alpha_slow", 0.0},
+                                                     {"recovery_alpha_fast", 0.0}}}};
+  {
+    ServerProcess server(dir.path() / "data");
+    const unsigned short port = server.port();
+    site = CreateSite(port, "room");
+    ASSERT_EQ(ImportMap(port, site, TrueRoomMap()).status, 201);
+    nlohmann::json with_site = settings;
+    with_site["site"] = site;
+    WsClient agent(port, "/api/ingest");
+    agent.SendJson(Hello("new", with_site));
+    id = (*agent.ReadType("welcome"))["session_id"];
+    for (std::int64_t seq = 1; seq <= 40; ++seq) SendLocalizeScan(agent, seq);
+    ASSERT_EQ(WaitForAck(agent, 40), 40);
+    WaitProcessed(port, id, 40);
+    ASSERT_EQ(Post(port, "/api/sessions/" + id + "/initial_pose", InitialPoseAt(PoseAt(41), 0.2).dump()).status, 200);
+    for (std::int64_t seq = 41; seq <= 120; ++seq) SendLocalizeScan(agent, seq);
+    ASSERT_EQ(WaitForAck(agent, 120), 120);
+    WaitProcessed(port, id, 120);
+    ASSERT_EQ(server.Stop(), 0);  // not closed: the restarted server rebuilds it from its inputs
+  }
+  ServerProcess server(dir.path() / "data");
+  const unsigned short port = server.port();
+  WaitProcessed(port, id, 120);
+  ASSERT_EQ(Post(port, "/api/sessions/" + id + "/close", "").status, 200);
+  const auto poses = Get(port, "/api/sessions/" + id + "/trajectory").Json()["poses"];
+  ASSERT_EQ(poses.size(), 120u);
+  EXPECT_GT(ErrorAt(poses, 35).metres, 1.0);  // the rebuild starts wrong, as the session did
+  for (std::size_t i = 90; i < 120; ++i) EXPECT_LT(ErrorAt(poses, i).metres, 0.1) << "scan " << i;
+  int logged = 0;
+  const auto events = Get(port, "/api/sessions/" + id + "/events").Json()["events"];
+  for (const auto& e : events) {
+    if (e["kind"] != "initial_pose") continue;
+    ++logged;
+    EXPECT_EQ(e["detail"]["seq"], 41) << e;
+  }
+  EXPECT_EQ(logged, 1) << events;  // applied once, and not logged again by the rebuild
+}
+
 TEST(LocalizeTest, GlobalLocalizationWithoutAPose) {
   TempDir dir;
   ServerProcess server(dir.path() / "data");

@@ -31,8 +31,9 @@ SessionEngine::~SessionEngine() {
   pipeline_.reset();  // joins the planner, whose callback uses mutex_ and wake_
 }
 
-void SessionEngine::Start(BacklogReader backlog, std::int64_t backlog_until) {
+void SessionEngine::Start(BacklogReader backlog, std::int64_t backlog_until, AppliedPoses applied_poses) {
   rebuilding_ = backlog_until > 0;
+  replayed_poses_ = std::move(applied_poses);
   thread_ = std::thread([this, backlog = std::move(backlog), backlog_until]() mutable {
     Loop(std::move(backlog), backlog_until);
   });
@@ -200,9 +201,15 @@ void SessionEngine::Process(const InputRecord& input, std::optional<SteadyTime> 
   pipeline_->SetVerifyPredicted(verify_predicted_);
   if (pipeline_->localizing()) {
     std::optional<InitialPose> pose;
-    {
-      std::lock_guard lock(mutex_);
-      pose = std::exchange(pending_pose_, std::nullopt);
+    if (const auto stored = replayed_poses_.find(input.seq); stored != replayed_poses_.end()) {
+      pose = stored->second;  // set before a restart: the rebuild applies it where it was applied then
+      replayed_poses_.erase(stored);
+    } else {
+      {
+        std::lock_guard lock(mutex_);
+        pose = std::exchange(pending_pose_, std::nullopt);
+      }
+      if (pose && sinks_.pose_applied) sinks_.pose_applied(input.seq, *pose);
     }
     if (pose) pipeline_->SetPose(*pose);
   }

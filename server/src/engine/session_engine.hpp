@@ -11,6 +11,7 @@
 #include <condition_variable>
 #include <deque>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -44,12 +45,17 @@ struct EngineSinks {
   // The filter threw (out of memory, the memory limit, ...). The engine has already dropped its
   // pipeline (the memory) and takes no more inputs; nothing of the engine runs after this returns.
   std::function<void(const std::string& error)> failed;
+  // A pose set over REST (SetInitialPose) was applied before the input 'seq'.
+  std::function<void(std::int64_t seq, const InitialPose&)> pose_applied;
   std::function<void()> rebuilt;   // the stored inputs of a resumed session are all in the filter
   std::function<void()> finished;  // after the final checkpoint of Finish()
 };
 
 // Stored inputs with seq > 'after_seq', in order (a chunk; empty when there are no more).
 using BacklogReader = std::function<std::vector<InputRecord>(std::int64_t after_seq)>;
+
+// Poses set over REST before a restart, by the seq of the input each was applied before.
+using AppliedPoses = std::map<std::int64_t, InitialPose>;
 
 class SessionEngine {
  public:
@@ -62,8 +68,9 @@ class SessionEngine {
   SessionEngine& operator=(const SessionEngine&) = delete;
 
   // Starts the thread. It first re-runs the stored inputs up to 'backlog_until' through the filter
-  // (a resumed session), then takes pushed inputs.
-  void Start(BacklogReader backlog, std::int64_t backlog_until);
+  // (a resumed session), applying 'applied_poses' before the same inputs as the first time, then
+  // takes pushed inputs.
+  void Start(BacklogReader backlog, std::int64_t backlog_until, AppliedPoses applied_poses = {});
   // Queues an input; inputs at or below the last processed seq are ignored (exactly once).
   void Push(InputRecord input, SteadyTime received);
   // Blocks until fewer than 'max_queued' inputs wait (replays pace themselves with this).
@@ -148,6 +155,7 @@ class SessionEngine {
   StopMode stop_ = StopMode::kNone;
   bool plan_ready_ = false;                              // the planner has a result to take
   std::optional<InitialPose> pending_pose_;              // to apply before the next input
+  AppliedPoses replayed_poses_;                          // engine thread only
   EngineStats stats_;                                    // copy for other threads
   std::shared_ptr<const LiveFrame> latest_frame_;
   std::atomic<std::int64_t> processed_seq_{0};

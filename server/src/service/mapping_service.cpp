@@ -140,6 +140,11 @@ std::shared_ptr<SessionRuntime> MappingService::Launch(const SessionRow& row, co
              {{"t", r.t}, {"x", r.x}, {"y", r.y}, {"target", {{"x", r.target_x}, {"y", r.target_y}}},
               {"seconds", r.seconds}});
   };
+  sinks.pose_applied = [this, id](std::int64_t seq, const InitialPose& pose) {
+    nlohmann::json detail = InitialPoseToJson(pose);
+    detail["seq"] = seq;  // a rebuild applies it before the same input
+    LogEvent(id, "initial_pose", std::move(detail));
+  };
   sinks.failed = [this, id, weak](const std::string& error) { OnEngineFailed(id, weak, error); };
   sinks.rebuilt = [this, id] {
     writer_.Submit([id](SessionRepository& repo) { repo.SetRebuilds(id, 0); });
@@ -157,8 +162,25 @@ std::shared_ptr<SessionRuntime> MappingService::Launch(const SessionRow& row, co
     auto lease = reads_.Acquire();
     return lease->repository().LoadInputs(id, after, kBacklogChunk);
   };
-  rt->engine->Start(std::move(backlog), stored_seq);
+  rt->engine->Start(std::move(backlog), stored_seq, stored_seq > 0 ? LoadAppliedPoses(id) : AppliedPoses{});
   return rt;
+}
+
+AppliedPoses MappingService::LoadAppliedPoses(const std::string& id) {
+  std::vector<EventRow> events;
+  {
+    auto lease = reads_.Acquire();
+    events = lease->repository().ListEventsOfKind(id, "initial_pose");
+  }
+  AppliedPoses poses;
+  for (const EventRow& e : events) {
+    nlohmann::json detail = nlohmann::json::parse(e.detail_json, nullptr, false);
+    if (!detail.is_object() || !detail.contains("seq") || !detail["seq"].is_number_integer()) continue;  // older form
+    const std::int64_t seq = detail["seq"];
+    detail.erase("seq");
+    poses[seq] = ParseInitialPose(detail, "stored initial_pose event");
+  }
+  return poses;
 }
 
 // On the failed engine's thread. The failure is committed before anything else happens: until then
@@ -774,8 +796,7 @@ InitialPose MappingService::SetInitialPose(const std::string& id, const nlohmann
   if (rt->settings.mode == "map") {
     throw ApiError::Conflict("session " + id + " maps (mode \"map\"): only a localize or extend session takes a pose");
   }
-  rt->engine->SetInitialPose(pose);
-  LogEvent(id, "initial_pose", InitialPoseToJson(pose));
+  rt->engine->SetInitialPose(pose);  // logged when applied, with the input it is applied before
   return pose;
 }
 

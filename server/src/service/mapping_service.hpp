@@ -147,6 +147,8 @@ class MappingService {
   InitialPose SetInitialPose(const std::string& id, const nlohmann::json& body);
   MapView CurrentMap(const std::string& id);
   std::vector<LiveMessage> StoredLiveSnapshot(const std::string& id);
+  // The poses set over REST that a resumed session applied before a restart.
+  AppliedPoses LoadAppliedPoses(const std::string& id);
   void LogEvent(const std::optional<std::string>& session_id, const std::string& kind, nlohmann::json detail);
 
   std::shared_ptr<SessionRuntime> Running(const std::string& id) const;

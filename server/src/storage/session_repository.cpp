@@ -486,16 +486,9 @@ void SessionRepository::AddEvent(const std::optional<std::string>& session_id, c
       .Run();
 }
 
-std::vector<EventRow> SessionRepository::ListEvents(const std::optional<std::string>& session_id, int limit,
-                                                    int offset) {
-  Statement s = session_id ? db_.Prepare("SELECT id, session_id, t, kind, detail FROM events WHERE session_id = ? "
-                                         "ORDER BY id DESC LIMIT ? OFFSET ?")
-                           : db_.Prepare("SELECT id, session_id, t, kind, detail FROM events WHERE session_id IS NULL "
-                                         "ORDER BY id DESC LIMIT ? OFFSET ?");
-  int index = 1;
-  if (session_id) s.Bind(index++, *session_id);
-  s.Bind(index, limit);
-  s.Bind(index + 1, offset);
+namespace {
+
+std::vector<EventRow> ReadEvents(Statement& s) {
   std::vector<EventRow> out;
   while (s.Step()) {
     EventRow e;
@@ -507,6 +500,29 @@ std::vector<EventRow> SessionRepository::ListEvents(const std::optional<std::str
     out.push_back(std::move(e));
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<EventRow> SessionRepository::ListEvents(const std::optional<std::string>& session_id, int limit,
+                                                    int offset) {
+  Statement s = session_id ? db_.Prepare("SELECT id, session_id, t, kind, detail FROM events WHERE session_id = ? "
+                                         "ORDER BY id DESC LIMIT ? OFFSET ?")
+                           : db_.Prepare("SELECT id, session_id, t, kind, detail FROM events WHERE session_id IS NULL "
+                                         "ORDER BY id DESC LIMIT ? OFFSET ?");
+  int index = 1;
+  if (session_id) s.Bind(index++, *session_id);
+  s.Bind(index, limit);
+  s.Bind(index + 1, offset);
+  return ReadEvents(s);
+}
+
+std::vector<EventRow> SessionRepository::ListEventsOfKind(const std::string& session_id, const std::string& kind) {
+  Statement s = db_.Prepare("SELECT id, session_id, t, kind, detail FROM events WHERE session_id = ? AND kind = ? "
+                            "ORDER BY id");
+  s.Bind(1, session_id);
+  s.Bind(2, kind);
+  return ReadEvents(s);
 }
 
 }  // namespace pslam::server

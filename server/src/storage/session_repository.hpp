@@ -65,6 +65,8 @@ class SessionRepository {
   void AddEvent(const std::optional<std::string>& session_id, const std::string& kind, const std::string& detail_json,
                 double now);
   std::vector<EventRow> ListEvents(const std::optional<std::string>& session_id, int limit, int offset);
+  // Every event of one kind of a session, oldest first.
+  std::vector<EventRow> ListEventsOfKind(const std::string& session_id, const std::string& kind);
 
  private:
   void UpsertHypothesis(const std::string& session_id, const HypothesisRecord& h, double resolution, double now);
