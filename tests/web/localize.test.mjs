@@ -4,6 +4,7 @@
 // chromium where the operator sets the robot's pose by a real mouse drag on the map. The session
 // starts sure of a pose 2.5 m off and without random particles: only the dragged pose can put it
 // right. Also the sites panel: the site, its map version and the version's files as imported.
+// An extend session on the same map: the viewer names its phase, localizing and then mapping on.
 // Run: npm --prefix web run test:browser (after the build).
 import assert from 'node:assert/strict';
 import { existsSync, readFileSync } from 'node:fs';
@@ -195,9 +196,14 @@ describe('setting a localize session pose in the viewer', { skip }, () => {
     await page.mouse.up();
     await page.locator('.pane-notice[data-pose="info"]:visible').waitFor({ timeout: 10000 });
 
-    const events = (await getJson(`${server.url}/api/sessions/${sessionId}/events`)).events.filter((e) => e.kind === 'initial_pose');
+    // The pose applies, and is logged, at the next scan.
+    await robot.sendScans(41, 41);
+    const poseEvents = async () => (await getJson(`${server.url}/api/sessions/${sessionId}/events`)).events.filter((e) => e.kind === 'initial_pose');
+    await waitFor('the initial_pose event', async () => (await poseEvents()).length > 0);
+    const events = await poseEvents();
     assert.equal(events.length, 1, JSON.stringify(events));
     const pose = events[0].detail;
+    assert.equal(pose.seq, 41);
     assert.ok(Math.hypot(pose.x - truth.x, pose.y - truth.y) < 0.05, `dragged ${JSON.stringify(pose)}, truth ${JSON.stringify(truth)}`);
     assert.ok(Math.abs(Math.atan2(Math.sin(pose.theta - truth.theta), Math.cos(pose.theta - truth.theta))) < 0.05, `heading ${pose.theta} vs ${truth.theta}`);
     // The tool disarms after one pose: a drag pans the map again.
@@ -205,7 +211,7 @@ describe('setting a localize session pose in the viewer', { skip }, () => {
   });
 
   it('ends localized where the robot is', async () => {
-    await robot.sendScans(41, 150);
+    await robot.sendScans(42, 150);
     await waitFor('150 scans processed', async () => (await filterStats()).processed_seq >= 150);
     const stats = await filterStats();
     assert.equal(stats.mode, 'localize');
@@ -252,6 +258,68 @@ describe('setting a localize session pose in the viewer', { skip }, () => {
     const notice = page.locator('.pane-notice[data-pose="error"]:visible');
     await notice.waitFor({ timeout: 10000 });
     assert.match(await notice.innerText(), /Setting the pose failed/);
+    assert.deepEqual(pageErrors, []);
+  });
+});
+
+describe('an extend session in the viewer', { skip }, () => {
+  let dir, server, browser, page, artifacts, robot, site, sessionId;
+  const pageErrors = [];
+  const filterStats = async () => (await getJson(`${server.url}/api/sessions/${sessionId}/stats`)).filter;
+
+  before(async () => {
+    artifacts = ensureArtifacts();
+    dir = tempDir('pslam-web-extend-');
+    server = await startServer({ dataDir: join(dir, 'data') });
+    site = (await postJson(`${server.url}/api/sites`, { name: 'room' })).id;
+    const map = roomMap();
+    await postJson(`${server.url}/api/sites/${site}/maps`, { yaml: map.yaml, pgm_base64: map.pgm.toString('base64') });
+    // No pose: global localization, which three scans from one spot leave undecided.
+    robot = new IngestClient(`ws://127.0.0.1:${server.port}/api/ingest`);
+    await robot.open();
+    robot.send({
+      type: 'hello',
+      version: 1,
+      robot_id: 'browser-test-bot',
+      session: 'new',
+      session_name: 'extend in the viewer',
+      laser: kLaser,
+      settings: { mode: 'extend', site, particles: 10, localization: { max_particles: 3000 } },
+    });
+    const welcome = await waitFor('the welcome', () => robot.messages.find((m) => m.type === 'welcome' || m.type === 'error'));
+    assert.equal(welcome.type, 'welcome', JSON.stringify(welcome));
+    sessionId = welcome.session_id;
+    await robot.sendScans(1, 3);
+    await waitFor('3 scans processed', async () => (await filterStats()).processed_seq >= 3);
+
+    browser = await launchBrowser();
+    page = await browser.context.newPage();
+    page.on('pageerror', (e) => pageErrors.push(e.message));
+    await page.goto(`${server.url}/#/session/${sessionId}`);
+  });
+
+  after(async () => {
+    if (page && artifacts) await page.screenshot({ path: join(artifacts, 'extend-final.png') }).catch(() => {});
+    robot?.close();
+    await browser?.close();
+    await server?.stop();
+    if (pageErrors.length) console.log('page errors:', pageErrors);
+  });
+
+  it('says it localizes on the site map and offers the set-pose tool', async () => {
+    await page.locator('[data-stat="mode"]', { hasText: 'extend a site map: localizing on it' }).waitFor({ timeout: 30000 });
+    await page.locator('[data-stat="localized"]', { hasText: /^no/ }).waitFor();
+    await page.locator('button[data-action="set-pose"]:visible').waitFor();
+  });
+
+  it('maps on from the site map once localized, without the set-pose tool', async () => {
+    await postJson(`${server.url}/api/sessions/${sessionId}/initial_pose`, { ...poseAt(4), std_xy: 0.1, std_theta: 0.05 });
+    await robot.sendScans(4, 60);
+    await waitFor('60 scans processed', async () => (await filterStats()).processed_seq >= 60);
+    assert.equal((await filterStats()).mode, 'extend_map');
+    await page.locator('[data-stat="mode"]', { hasText: 'extend a site map: mapping on from it' }).waitFor({ timeout: 15000 });
+    await page.locator('button[data-action="set-pose"]').waitFor({ state: 'hidden', timeout: 15000 });
+    assert.equal(await page.locator('[data-stat="localized"]').count(), 0);
     assert.deepEqual(pageErrors, []);
   });
 });
