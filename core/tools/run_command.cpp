@@ -229,9 +229,10 @@ int RunRunCommand(const std::vector<std::string>& args) {
     std::printf("resamplings       %d\n", s.resamplings);
     if (const LoopCloser* loops = filter.loop_closer()) {
       const LoopClosureStats& l = loops->stats();
-      std::printf("loop closure      %d closures in %d searches (%d ambiguous, %d outliers), %d optimisations,\n"
-                  "                  %d map rebuilds; %.1f s searching, %.1f s optimising, %.1f s rebuilding\n",
-                  l.closures, l.searches, l.ambiguous, l.outliers, l.optimizations, l.rebuilds, l.search_ms / 1e3,
+      std::printf("loop closure      %d closures in %d searches (%d ambiguous, %d checks with a rival elsewhere,\n"
+                  "                  %d outliers), %d optimisations, %d map rebuilds; %.1f s searching,\n"
+                  "                  %.1f s optimising, %.1f s rebuilding\n",
+                  l.closures, l.searches, l.ambiguous, l.rivalled, l.outliers, l.optimizations, l.rebuilds, l.search_ms / 1e3,
                   l.optimize_ms / 1e3, l.rebuild_ms / 1e3);
     }
     std::printf("tracking warnings %d (%d lost), %s at the end\n", warnings, lost, TrackingStateName(monitor.state()));

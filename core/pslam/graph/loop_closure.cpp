@@ -123,6 +123,7 @@ void LoopCloser::SearchClosures(int n) {
     int submap;
     double distance;        // metres, in the map
     double graph_distance;  // metres, through the graph
+    bool may_close;         // false: closed a moment ago, searched only as a possible rival
   };
   std::vector<Candidate> candidates;
   const Eigen::Vector2d here = graph_.pose(n).translation();
@@ -130,21 +131,22 @@ void LoopCloser::SearchClosures(int n) {
   for (int s = 0; s <= eligible; ++s) {
     const Submap& submap = submaps_[static_cast<std::size_t>(s)];
     if (!submap.finished) continue;
-    if (last_closure_node_[static_cast<std::size_t>(s)] >= n - options_.nodes_per_submap / 2) continue;
     double nearest = 1e18, through_graph = 1e18;
     for (int k = submap.first_node; k <= submap.last_node; ++k) {
       nearest = std::min(nearest, (graph_.pose(k).translation() - here).norm());
       through_graph = std::min(through_graph, distance[static_cast<std::size_t>(k)]);
     }
     const double window = std::min(options_.base_window + options_.window_per_metre * through_graph, options_.max_window);
-    if (nearest <= window + 3.0) candidates.push_back({s, nearest, through_graph});
+    const bool may_close = last_closure_node_[static_cast<std::size_t>(s)] < n - options_.nodes_per_submap / 2;
+    if (nearest <= window + 3.0) candidates.push_back({s, nearest, through_graph, may_close});
   }
   std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) { return a.distance < b.distance; });
   if (static_cast<int>(candidates.size()) > options_.max_candidates) candidates.resize(static_cast<std::size_t>(options_.max_candidates));
-  const std::vector<Eigen::Vector2f> cloud = candidates.empty() ? std::vector<Eigen::Vector2f>() : MatchCloud(n);
+  const bool any_may_close = std::any_of(candidates.begin(), candidates.end(), [](const Candidate& c) { return c.may_close; });
+  const std::vector<Eigen::Vector2f> cloud = any_may_close ? MatchCloud(n) : std::vector<Eigen::Vector2f>();
   if (cloud.size() >= 20) {
-    // The searches are independent: run them in parallel, then accept in candidate order, so the
-    // outcome does not depend on the thread count.
+    // The searches are independent: run them in parallel, then judge them in candidate order, so
+    // the outcome does not depend on the thread count.
     std::vector<const MaxPoolStack*> grids;
     for (const Candidate& c : candidates) grids.push_back(&SearchGrid(c.submap));
     std::vector<Match> matches(candidates.size());
@@ -154,13 +156,45 @@ void LoopCloser::SearchClosures(int n) {
     };
     if (pool_) pool_->ParallelFor(static_cast<int>(candidates.size()), search);
     else for (int i = 0; i < static_cast<int>(candidates.size()); ++i) search(i);
+    // The node's place in the map, as each submap puts it.
+    const auto in_map = [&](std::size_t i) {
+      return graph_.pose(submaps_[static_cast<std::size_t>(candidates[i].submap)].first_node) * matches[i].measured;
+    };
+    std::optional<std::size_t> best;
     for (std::size_t i = 0; i < candidates.size(); ++i) {
       ++stats_.searches;
       if (matches[i].ambiguous) ++stats_.ambiguous;
-      if (matches[i].found) Accept(n, candidates[i].submap, matches[i]);
+      if (matches[i].found && (!best || matches[i].score > matches[*best].score)) best = i;
+    }
+    if (best && matches[*best].score >= options_.min_score) {
+      // The place is judged across every submap searched, not within each: in a repeating building
+      // one submap may hold the robot's surroundings and another a copy of them next door. A
+      // different place that scores nearly as well, in any submap, leaves the node without a closure.
+      const double rival = options_.ambiguity_ratio * matches[*best].score;
+      const Pose2D at = in_map(*best);
+      bool rivalled = false;
+      for (std::size_t i = 0; i < candidates.size(); ++i) {
+        rivalled = rivalled || matches[i].alternative_score >= rival ||
+                   (matches[i].found && matches[i].score >= rival && !SamePlace(in_map(i), at));
+      }
+      if (rivalled) {
+        ++stats_.rivalled;
+      } else {
+        for (std::size_t i = 0; i < candidates.size(); ++i) {
+          const Match& m = matches[i];
+          if (candidates[i].may_close && m.found && !m.ambiguous && m.score >= options_.min_score && SamePlace(in_map(i), at)) {
+            Accept(n, candidates[i].submap, m);
+          }
+        }
+      }
     }
   }
   stats_.search_ms += MsSince(start);
+}
+
+bool LoopCloser::SamePlace(const Pose2D& a, const Pose2D& b) const {
+  return std::hypot(a.x - b.x, a.y - b.y) < options_.ambiguity_distance &&
+         std::abs(NormalizeAngle(a.theta - b.theta)) < options_.ambiguity_angle;
 }
 
 const MaxPoolStack& LoopCloser::SearchGrid(int submap) {
@@ -187,26 +221,30 @@ LoopCloser::Match LoopCloser::MatchAgainst(int n, int s, double graph_distance, 
   Match out;
   const Submap& submap = submaps_[static_cast<std::size_t>(s)];
   out.guess = Between(graph_.pose(submap.first_node), graph_.pose(n));
+  // Poses a little below the acceptance score are searched too: they cannot close a loop, but one
+  // may be a rival to another submap's match.
   BranchAndBoundOptions search{
       .linear_window = std::min(options_.base_window + options_.window_per_metre * graph_distance, options_.max_window),
       .angular_window = std::min(options_.base_angular_window + options_.angular_window_per_metre * graph_distance,
                                  options_.max_angular_window),
-      .min_score = options_.min_score};
+      .min_score = options_.ambiguity_ratio * options_.min_score};
   const BranchAndBoundResult best = MatchByBranchAndBound(grid, cloud, out.guess, search);
   if (!best.found) return out;
+  out.found = true;
+  out.score = best.score;
+  out.measured = best.pose;
   // The best pose elsewhere: if it scores nearly as well, the place repeats and the match says
   // nothing about which copy the robot is in.
   search.min_score = options_.ambiguity_ratio * best.score;
   const BranchAndBoundResult alternative = MatchByBranchAndBound(grid, cloud, out.guess, search, [&](const Pose2D& p) {
-    return std::hypot(p.x - best.pose.x, p.y - best.pose.y) < options_.ambiguity_distance &&
-           std::abs(NormalizeAngle(p.theta - best.pose.theta)) < options_.ambiguity_angle;
+    return SamePlace(p, best.pose);
   });
   if (alternative.found) {
     out.ambiguous = true;
+    out.alternative_score = alternative.score;
     return out;
   }
-  out.found = true;
-  out.measured = best.pose;
+  if (best.score < options_.min_score) return out;
   const ScanMatchResult refined = MatchScan(submap.grid, cloud, best.pose, options_.refine);
   if (refined.converged) out.measured = refined.pose;
   return out;

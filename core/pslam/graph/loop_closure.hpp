@@ -24,6 +24,7 @@ struct LoopClosureStats {
   int searches = 0;              // node-to-submap matches tried
   int closures = 0;              // accepted as edges
   int ambiguous = 0;             // matched, but another pose scored nearly as well
+  int rivalled = 0;              // checks refused: another submap held a different place nearly as good
   int outliers = 0;              // accepted, then removed for disagreeing with the optimum
   int optimizations = 0;
   int rebuilds = 0;              // map re-rendered from corrected poses
@@ -68,13 +69,16 @@ class LoopCloser {
   void AddToSubmap(int node);
   void SearchClosures(int node);
   struct Match {
-    bool found = false;
-    bool ambiguous = false;
+    bool found = false;             // some pose scored at least the rival threshold
+    bool ambiguous = false;         // another pose in the same submap scored nearly as well
+    double score = 0.0;
+    double alternative_score = 0.0; // the best pose away from `measured` in this submap (0: none)
     Pose2D guess;      // the node in the submap's frame, as the graph has it
     Pose2D measured;   // ... as the match says
   };
   Match MatchAgainst(int node, int submap, double graph_distance, const MaxPoolStack& grid,
                      const std::vector<Eigen::Vector2f>& cloud) const;
+  bool SamePlace(const Pose2D& a, const Pose2D& b) const;
   void Accept(int node, int submap, const Match& match);
   void Link(int a, int b, double length);
   std::vector<Eigen::Vector2f> MatchCloud(int node) const;

@@ -13,7 +13,9 @@ struct LoopClosureOptions {
   int recent_submaps = 2;          // the newest submaps are what tracking matches against: skipped
   // Which nodes look for a closure, and where.
   int check_every_nodes = 3;
-  int max_candidates = 3;          // nearest eligible submaps tried per check
+  // Nearest eligible submaps tried per check. All of them judge whether the place is ambiguous, so
+  // that a copy of the robot's surroundings in another submap is a rival (docs/loop-closure.md).
+  int max_candidates = 8;
   int context_nodes = 5;           // the newest nodes' hits together form the matched cloud
   double cloud_spacing = 0.15;     // metres between kept cloud points
   double cloud_max_range = 12.0;   // metres from the node
