@@ -52,6 +52,7 @@ const OptionTable<RbpfOptions>& Setters() {
       {"loop_closure.recent_submaps", Option(&RbpfOptions::loop_closure, &LoopClosureOptions::recent_submaps)},
       {"loop_closure.check_every_nodes", Option(&RbpfOptions::loop_closure, &LoopClosureOptions::check_every_nodes)},
       {"loop_closure.max_candidates", Option(&RbpfOptions::loop_closure, &LoopClosureOptions::max_candidates)},
+      {"loop_closure.judge_across_submaps", Option(&RbpfOptions::loop_closure, &LoopClosureOptions::judge_across_submaps)},
       {"loop_closure.context_nodes", Option(&RbpfOptions::loop_closure, &LoopClosureOptions::context_nodes)},
       {"loop_closure.cloud_spacing", Option(&RbpfOptions::loop_closure, &LoopClosureOptions::cloud_spacing)},
       {"loop_closure.cloud_max_range", Option(&RbpfOptions::loop_closure, &LoopClosureOptions::cloud_max_range)},

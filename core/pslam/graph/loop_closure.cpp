@@ -138,6 +138,7 @@ void LoopCloser::SearchClosures(int n) {
     }
     const double window = std::min(options_.base_window + options_.window_per_metre * through_graph, options_.max_window);
     const bool may_close = last_closure_node_[static_cast<std::size_t>(s)] < n - options_.nodes_per_submap / 2;
+    if (!may_close && !options_.judge_across_submaps) continue;
     if (nearest <= window + 3.0) candidates.push_back({s, nearest, through_graph, may_close});
   }
   std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) { return a.distance < b.distance; });
@@ -166,7 +167,14 @@ void LoopCloser::SearchClosures(int n) {
       if (matches[i].ambiguous) ++stats_.ambiguous;
       if (matches[i].found && (!best || matches[i].score > matches[*best].score)) best = i;
     }
-    if (best && matches[*best].score >= options_.min_score) {
+    if (!options_.judge_across_submaps) {
+      // Each submap on its own: a match with no rival inside its submap closes the loop.
+      for (std::size_t i = 0; i < candidates.size(); ++i) {
+        if (matches[i].found && !matches[i].ambiguous && matches[i].score >= options_.min_score) {
+          Accept(n, candidates[i].submap, matches[i]);
+        }
+      }
+    } else if (best && matches[*best].score >= options_.min_score) {
       // The place is judged across every submap searched, not within each: in a repeating building
       // one submap may hold the robot's surroundings and another a copy of them next door. A
       // different place that scores nearly as well, in any submap, leaves the node without a closure.
@@ -221,13 +229,13 @@ LoopCloser::Match LoopCloser::MatchAgainst(int n, int s, double graph_distance, 
   Match out;
   const Submap& submap = submaps_[static_cast<std::size_t>(s)];
   out.guess = Between(graph_.pose(submap.first_node), graph_.pose(n));
-  // Poses a little below the acceptance score are searched too: they cannot close a loop, but one
-  // may be a rival to another submap's match.
+  // Judged across submaps, poses a little below the acceptance score are searched too: they cannot
+  // close a loop, but one may be a rival to another submap's match.
   BranchAndBoundOptions search{
       .linear_window = std::min(options_.base_window + options_.window_per_metre * graph_distance, options_.max_window),
       .angular_window = std::min(options_.base_angular_window + options_.angular_window_per_metre * graph_distance,
                                  options_.max_angular_window),
-      .min_score = options_.ambiguity_ratio * options_.min_score};
+      .min_score = options_.judge_across_submaps ? options_.ambiguity_ratio * options_.min_score : options_.min_score};
   const BranchAndBoundResult best = MatchByBranchAndBound(grid, cloud, out.guess, search);
   if (!best.found) return out;
   out.found = true;

@@ -5,17 +5,21 @@
 namespace pslam {
 
 struct LoopClosureOptions {
-  // Off unless turned on: `pslam run` maps logs with it. In the repetitive simulated maze it still
-  // accepts wrong closures (docs/loop-closure.md), so explorations and server sessions go without.
+  // Off unless turned on: `pslam run` maps logs with it. In simulated explorations it improved
+  // full-coverage runs but made P-SLAM's skip runs worse (docs/loop-closure.md), so explorations,
+  // the experiments and server sessions go without.
   bool enabled = false;
   // Submaps: consecutive filter updates (nodes) rendered into one rigid local grid.
   int nodes_per_submap = 25;
   int recent_submaps = 2;          // the newest submaps are what tracking matches against: skipped
   // Which nodes look for a closure, and where.
   int check_every_nodes = 3;
-  // Nearest eligible submaps tried per check. All of them judge whether the place is ambiguous, so
-  // that a copy of the robot's surroundings in another submap is a rival (docs/loop-closure.md).
-  int max_candidates = 8;
+  int max_candidates = 3;          // nearest eligible submaps tried per check
+  // Judge a place across every submap searched, not within each: a copy of the robot's
+  // surroundings in another submap is then a rival too, and submaps closed a moment ago are
+  // searched as possible rivals. Off by default: on Intel it refused closures the map needed
+  // (docs/loop-closure.md); give it max_candidates 8 or so to see the copies next door.
+  bool judge_across_submaps = false;
   int context_nodes = 5;           // the newest nodes' hits together form the matched cloud
   double cloud_spacing = 0.15;     // metres between kept cloud points
   double cloud_max_range = 12.0;   // metres from the node
