@@ -21,7 +21,7 @@ TEST(GeneratedOfficeRunTest, ShortRunMakesAHypothesisThatMatchesTheTruth) {
   options.slam.predictor.similarity_threshold = 0.6;
   options.explore.mode = ExploreMode::kSkipPredicted;
   options.explore.area = plan.world.Extent();
-  options.time_limit_s = 200.0;
+  options.time_limit_s = 300.0;
   ExplorationRun run(plan.world, plan.start, options);
   const OccupancyGrid reachable = ReachableFreeCells(plan.world, plan.start.translation());
   const CoverageTrace trace = RunRecordingCoverage(run, reachable, 20.0);

@@ -79,6 +79,30 @@ TEST(ScanInserter, MarksWallsOccupiedAndTheRoomFree) {
 
 // A scan taken 1e15 m away (finite, absurd odometry) must neither overflow the cell index nor
 // grow the tile table towards it: the writes are refused and counted, the map stays as it was.
+// A wall along y = 2 m (its row of cells, y 2.00-2.05 m, marked occupied), seen from (0, 1) at
+// shallow angles by a scan whose endpoints lie 2 mm into the next row, as a pose a few millimetres
+// off puts them. Returns how many of the wall's cells between x = 2 m and 8 m the scan made less
+// likely occupied.
+int WallCellsClearedByGrazingBeams(bool grazing_stop) {
+  OccupancyGrid grid(0.05);
+  for (int x = 0; x < 200; ++x) grid.AddLogOdds(x, 40, 2000, -2000, 3500);
+  ScanPoints points;
+  for (double x = 3.0; x <= 8.0; x += 0.25) points.hits.emplace_back(static_cast<float>(x), 1.052f);
+  ScanInsertOptions options;
+  options.grazing_stop = grazing_stop;
+  ScanInserter(options).Insert(points, Pose2D(0.0, 1.0, 0.0), grid);
+  int cleared = 0;
+  for (int x = 40; x < 160; ++x) cleared += grid.At(x, 40) < 2000;
+  return cleared;
+}
+
+TEST(ScanInserter, BeamsGrazingAWallStopShortOfClearingIt) {
+  const int without = WallCellsClearedByGrazingBeams(false);
+  const int with = WallCellsClearedByGrazingBeams(true);
+  EXPECT_GE(without, 60) << "each beam runs through the wall's row before its endpoint";
+  EXPECT_LE(with, without / 2) << with << " of " << without;
+}
+
 TEST(OccupancyGrid, RefusesCellsBeyondItsExtentWithoutAllocating) {
   OccupancyGrid grid(0.05);
   const ScanInserter inserter;

@@ -66,6 +66,7 @@ TEST(RbpfHypothesisFramesTest, ARemovedHypothesisLeavesNoCellInAnyParticle) {
   options.points.max_usable_range = 8.0;
   options.motion.translation_per_translation *= 4.0;  // particles spread wide, as on a rough floor
   options.motion.rotation_per_rotation *= 4.0;
+  options.resample_threshold = 0.0;  // never resample: each particle keeps its own drift
   Rbpf filter(options);
   sim.SetCommand({0.3, 0.1});
   Drive(sim, filter, 6.0);

@@ -27,6 +27,7 @@ const OptionTable<RbpfOptions>& Setters() {
       {"insert.miss_probability", Option(&RbpfOptions::insert, &ScanInsertOptions::miss_probability)},
       {"insert.min_probability", Option(&RbpfOptions::insert, &ScanInsertOptions::min_probability)},
       {"insert.max_probability", Option(&RbpfOptions::insert, &ScanInsertOptions::max_probability)},
+      {"insert.grazing_stop", Option(&RbpfOptions::insert, &ScanInsertOptions::grazing_stop)},
       {"tracking_match.coarsest_level", Option(&RbpfOptions::tracking_match, &ScanMatchOptions::coarsest_level)},
       {"tracking_match.iterations_per_level", Option(&RbpfOptions::tracking_match, &ScanMatchOptions::iterations_per_level)},
       {"tracking_match.min_score", Option(&RbpfOptions::tracking_match, &ScanMatchOptions::min_score)},

@@ -12,6 +12,9 @@ struct ScanInsertOptions {
   double miss_probability = 0.4;
   double min_probability = 0.12;   // clamping: how sure a cell may become of being free ...
   double max_probability = 0.97;   // ... or occupied
+  // A beam that meets its surface at a shallow angle stops clearing where it would enter the
+  // surface's row of cells (scan_inserter.cpp, GrazingStop; measured in docs/loop-closure.md).
+  bool grazing_stop = true;
 };
 
 class ScanInserter {
@@ -25,6 +28,7 @@ class ScanInserter {
 
  private:
   int hit_, miss_, lo_, hi_;  // milli log-odds
+  bool grazing_stop_;
 };
 
 }  // namespace pslam
