@@ -228,8 +228,10 @@ TEST_F(MazeRunTest, PredictionsDoNotBuildOnWeakHypotheses) {
   ExplorationOptions options = ShortRunOptions(ExploreMode::kSkipPredicted, 400.0);
   options.slam.filter.seed = options.simulator.seed = 1;  // a run that builds on one within 400 s
   // ... with the filter as it mapped when this case was found: since beams that graze a wall stop
-  // short, this run's predictions never build on a weak hypothesis, so the case would not arise.
+  // short and the odometry's scale is learned, this run's and seeds 2-10's predictions never build
+  // on a weak hypothesis within 400-700 s, so the case would not arise.
   options.slam.filter.insert.grazing_stop = false;
+  options.slam.filter.odometry_calibration.enabled = false;
   const double bar = options.slam.predict_from_psi;
   ASSERT_GT(bar, options.slam.predictor.similarity_threshold);
   const auto weak = [bar](const Hypothesis& h) { return h.psi < bar && h.status != Hypothesis::Status::kConfirmed; };

@@ -15,7 +15,7 @@
 namespace pslam {
 
 Rbpf::Rbpf(const RbpfOptions& options)
-    : options_(options), inserter_(options.insert), pool_(options.threads) {
+    : options_(options), inserter_(options.insert), pool_(options.threads), calibration_(options.odometry_calibration) {
   if (options_.prior_map && std::abs(options_.prior_map->resolution() - options_.resolution) > 1e-9) {
     throw std::invalid_argument("the prior map's resolution differs from the filter's");
   }
@@ -89,8 +89,13 @@ RbpfStep Rbpf::AddScan(const LaserScan& scan) {
   const ScanPoints points = ToScanPoints(scan, options_.points);
   // Track the scan against the best map, starting from where odometry says the robot went.
   const Particle& tracker = best();
-  const Pose2D guess = tracker.pose * Between(odometry_at_update_, scan.odometry);
+  const Pose2D guess = tracker.pose * calibration_.Correct(Between(odometry_at_update_, scan.odometry));
   const ScanMatchResult tracked = MatchScan(tracker.map, points.hits, guess, options_.tracking_match);
+  if (options_.odometry_calibration.enabled) {
+    calibration_.AddScan(scan.odometry, tracked.pose,
+                         tracked.converged && TranslationConstraintRatio(tracked.hessian) >=
+                                                  options_.odometry_calibration.min_constrained_ratio);
+  }
   step.tracking_score = tracked.score;
   const Pose2D motion = Between(tracker.pose, tracked.pose);
   tracked_.push_back(motion);
@@ -143,6 +148,7 @@ std::optional<Pose2D> Rbpf::FlushLoopClosure() {
 }
 
 Pose2D Rbpf::ApplyCorrection(const LoopClosureCorrection& correction) {
+  calibration_.Interrupt();
   const Pose2D old_best = best().pose;
   const Pose2D new_best = correction.node_poses.back();
   const Pose2D move = new_best * old_best.inverse();

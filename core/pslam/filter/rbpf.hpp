@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "pslam/common/parallel_for.hpp"
+#include "pslam/filter/odometry_calibration.hpp"
 #include "pslam/filter/rbpf_options.hpp"
 #include "pslam/graph/loop_closure.hpp"
 #include "pslam/grid/occupancy_grid.hpp"
@@ -91,6 +92,7 @@ class Rbpf {
   // Writes the particles' grids refused for their GridLimits (the most of any one grid).
   std::uint64_t RefusedMapWrites() const;
   const RbpfStats& stats() const { return stats_; }
+  const OdometryCalibration& odometry_calibration() const { return calibration_; }
   // Null when loop closure is off.
   const LoopCloser* loop_closer() const { return loop_closer_.get(); }
   const RbpfOptions& options() const { return options_; }
@@ -132,6 +134,7 @@ class Rbpf {
   int best_ = 0;
   RbpfStats stats_;
   Pose2D odometry_at_update_;
+  OdometryCalibration calibration_;
   std::vector<Pose2D> tracked_;      // per scan: pose relative to the tracked particle's last update
   Pose2D last_pose_;
   bool has_hypotheses_ = false;

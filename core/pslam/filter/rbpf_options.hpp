@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "pslam/filter/motion_model.hpp"
+#include "pslam/filter/odometry_calibration.hpp"
 #include "pslam/graph/loop_closure_options.hpp"
 #include "pslam/grid/occupancy_grid.hpp"
 #include "pslam/grid/scan_inserter.hpp"
@@ -58,6 +59,8 @@ struct RbpfOptions {
   ScanMatchOptions particle_match{.coarsest_level = 1, .degenerate_ratio = 0.15};
   LikelihoodOptions likelihood;
   MotionNoise motion;
+  // Scales the wheel odometry by what scan matching measured of it (odometry_calibration.hpp).
+  OdometryCalibrationOptions odometry_calibration;
   // Loop closure over a pose graph of the best particle's updates (pslam/graph/loop_closure.hpp).
   LoopClosureOptions loop_closure;
 };

@@ -85,6 +85,12 @@ void RefineOnLevel(const OccupancyField& field, const std::vector<Eigen::Vector2
 
 }  // namespace
 
+double TranslationConstraintRatio(const Eigen::Matrix3d& hessian) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(hessian.topLeftCorner<2, 2>());
+  const Eigen::Vector2d values = eigen.eigenvalues();  // ascending
+  return values(1) > 0.0 ? std::max(0.0, values(0)) / values(1) : 0.0;
+}
+
 double ScoreScan(const OccupancyGrid& grid, const std::vector<Eigen::Vector2f>& points, const Pose2D& pose) {
   if (points.empty()) return 0.0;
   const OccupancyField field(grid, 0);

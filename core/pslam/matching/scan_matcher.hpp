@@ -39,6 +39,11 @@ struct ScanMatchResult {
 ScanMatchResult MatchScan(const OccupancyGrid& grid, const std::vector<Eigen::Vector2f>& points_in_robot,
                           const Pose2D& initial, const ScanMatchOptions& options);
 
+// How well a match pins the position down: the weaker translation direction's eigenvalue of
+// J^T J (ScanMatchResult::hessian) as a share of the stronger one's; 0 in a featureless corridor,
+// 1 where the scan constrains both directions alike.
+double TranslationConstraintRatio(const Eigen::Matrix3d& hessian);
+
 // Mean evidence of the points at a pose (finest level).
 double ScoreScan(const OccupancyGrid& grid, const std::vector<Eigen::Vector2f>& points_in_robot, const Pose2D& pose);
 
