@@ -17,6 +17,7 @@
 #                    runs sharing cores slow each other down: wall times are then not comparable.
 #   --set NAME=VALUE passed on to `pslam run` (see `pslam run --help`); repeatable
 #   --data DIR       the shared data folder (default: $PSLAM_DATA_DIR, else ../shared/data)
+# PSLAM_BIN=PATH runs that pslam binary instead of build/bin/pslam.
 # Progress goes to stderr. When a run or its evaluation fails, the script stops the other runs,
 # names the one that failed, keeps its intermediate files and exits with status 1.
 set -euo pipefail
@@ -84,7 +85,7 @@ for log in "${logs[@]}"; do
     die "log '$log' needs $data/$log/$log.clf and $data/$log/$log.relations"
 done
 
-pslam=build/bin/pslam
+pslam=${PSLAM_BIN:-build/bin/pslam}  # another build's binary, to compare two builds
 [[ -x $pslam ]] || die "$pslam not found: build it with 'cmake --build build --target pslam'"
 # /usr/bin/time measures the peak memory in case `pslam run` does not print it.
 timer=()
