@@ -47,14 +47,17 @@ void OdometryCalibration::AddScan(const Pose2D& odometry, const Pose2D& matched,
   previous_matched_ = matched;
 }
 
+double OdometryCalibration::Scale(double matched, double odometry, double min_evidence) const {
+  if (!options_.enabled || odometry < min_evidence) return 1.0;
+  return std::clamp(matched / odometry, 1.0 - options_.max_scale_error, 1.0 + options_.max_scale_error);
+}
+
 double OdometryCalibration::translation_scale() const {
-  if (!options_.enabled || odometry_metres_ < options_.min_evidence_metres) return 1.0;
-  return std::clamp(matched_metres_ / odometry_metres_, 1.0 - options_.max_scale_error, 1.0 + options_.max_scale_error);
+  return Scale(matched_metres_, odometry_metres_, options_.min_evidence_metres);
 }
 
 double OdometryCalibration::rotation_scale() const {
-  if (!options_.enabled || odometry_radians_ < options_.min_evidence_radians) return 1.0;
-  return std::clamp(matched_radians_ / odometry_radians_, 1.0 - options_.max_scale_error, 1.0 + options_.max_scale_error);
+  return Scale(matched_radians_, odometry_radians_, options_.min_evidence_radians);
 }
 
 Pose2D OdometryCalibration::Correct(const Pose2D& d) const {

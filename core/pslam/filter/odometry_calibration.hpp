@@ -49,6 +49,9 @@ class OdometryCalibration {
   double rotation_scale() const;     // true rotation per odometry rotation (1 until known)
 
  private:
+  // matched / odometry within the bounds, or 1 while off or short of evidence.
+  double Scale(double matched, double odometry, double min_evidence) const;
+
   OdometryCalibrationOptions options_;
   bool has_previous_ = false;
   bool previous_constrained_ = false;
