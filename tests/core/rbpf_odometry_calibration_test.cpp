@@ -43,8 +43,7 @@ double LearnedScale(bool calibrate) {
   options.threads = 1;
   options.initial_pose = start;
   options.points.max_usable_range = 8.0;
-  options.points.no_return_free_range = 7.9;
-  SetDegenerateRatio(options, 0.15);
+  options.points.no_return_free_range = 7.9;  // the degeneracy guard is on by default
   options.odometry_calibration.enabled = calibrate;
   Rbpf filter(options);
   Pose2D odometry = start, previous_truth = start;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "pslam/grid/ray_caster.hpp"
 
@@ -20,15 +21,15 @@ constexpr float kMaxGrazingStop = 0.5f;  // metres
 // that other beams mark occupied. Those alternating stretches along a wall are structure that is
 // not there, and in a corridor longer than the laser's range they pull scan matching along it.
 // So the beam stops that far short of its endpoint, less the one cell it never clears anyway.
-float GrazingStop(const ScanPoints& points, std::size_t i, float cell) {
-  const auto& hits = points.hits;
+// `beam` runs from the sensor to hit i, `range` is its length.
+float GrazingStop(const std::vector<Eigen::Vector2f>& hits, std::size_t i, const Eigen::Vector2f& beam, float range,
+                  float cell) {
   const Eigen::Vector2f& p = hits[i];
   const bool before = i > 0 && (hits[i - 1] - p).norm() < kSameSurface;
   const bool after = i + 1 < hits.size() && (hits[i + 1] - p).norm() < kSameSurface;
   if (!before && !after) return 0.0f;
   const Eigen::Vector2f surface = (after ? hits[i + 1] : p) - (before ? hits[i - 1] : p);
-  const Eigen::Vector2f beam = p - points.origin;
-  const float norms = surface.norm() * beam.norm();
+  const float norms = surface.norm() * range;
   if (norms <= 0.0f) return 0.0f;
   const float sine = std::abs(surface.x() * beam.y() - surface.y() * beam.x()) / norms;
   return std::min(kMaxGrazingStop, cell * (1.0f / std::max(sine, 1e-3f) - 1.0f));
@@ -60,7 +61,7 @@ void ScanInserter::Insert(const ScanPoints& points, const Pose2D& pose, Occupanc
     const Eigen::Vector2f beam = p - points.origin;
     const float range = beam.norm();
     if (range <= 0.0f) continue;
-    const float stop = grazing_stop_ ? std::min(GrazingStop(points, i, cell), range) : 0.0f;
+    const float stop = grazing_stop_ ? std::min(GrazingStop(points.hits, i, beam, range, cell), range) : 0.0f;
     TraceRay(origin, grid.WorldToCell(pose * (p - beam * (stop / range)).cast<double>()), miss);
   }
   for (const auto& p : points.hits) {
