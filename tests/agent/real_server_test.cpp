@@ -7,9 +7,6 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <boost/asio.hpp>
-#include <boost/beast/core.hpp>
-#include <boost/beast/http.hpp>
 #include <nlohmann/json.hpp>
 #include <thread>
 
@@ -236,21 +233,8 @@ TEST(RealServerTest, SessionLimitIsReportedPlainlyAndRetried) {
   const std::string holder_session = holder.link_status().session_id;
   stop_holder = true;
   holder_runner.join();
-  boost::asio::io_context ioc;
-  {
-    namespace beast = boost::beast;
-    namespace http = beast::http;
-    beast::tcp_stream stream(ioc);
-    stream.connect(boost::asio::ip::tcp::endpoint(boost::asio::ip::make_address("127.0.0.1"), server.port()));
-    http::request<http::empty_body> req{http::verb::post, "/api/sessions/" + holder_session + "/close", 11};
-    req.set(http::field::host, "127.0.0.1");
-    req.set(http::field::authorization, "Bearer agent-secret-1");
-    http::write(stream, req);
-    beast::flat_buffer buffer;
-    http::response<http::string_body> res;
-    http::read(stream, buffer, res);
-    ASSERT_EQ(res.result_int(), 200u) << res.body();
-  }
+  const auto closed = testing::Request(server.port(), "POST", "/api/sessions/" + holder_session + "/close", "agent-secret-1");
+  ASSERT_EQ(closed.status, 200) << closed.body;
   const bool connected = WaitFor([&] { return agent.link_status().connections > 0; }, 20.0);
   stop = true;
   runner.join();

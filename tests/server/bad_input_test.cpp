@@ -165,17 +165,7 @@ TEST(BadInputTest, TokensAreRequiredWhenConfigured) {
 }
 
 // The status of a raw request (headers and body exactly as given) on a fresh connection.
-int RawStatus(unsigned short port, const std::string& request) {
-  asio::io_context ioc;
-  beast::tcp_stream stream(ioc);
-  stream.connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), port));
-  asio::write(stream, asio::buffer(request));
-  stream.expires_after(std::chrono::seconds(10));
-  beast::flat_buffer buffer;
-  http::response<http::string_body> res;
-  http::read(stream, buffer, res);
-  return static_cast<int>(res.result_int());
-}
+int RawStatus(unsigned short port, const std::string& request) { return RawRequest(port, request).status; }
 
 TEST(BadInputTest, TransferCodingsOtherThanAFinalChunkedAreRefused) {
   TempDir dir;

@@ -2,6 +2,10 @@
 // sockets must say hello within a deadline, agents and viewers have separate quotas, and one
 // token cannot take every slot.
 #include <gtest/gtest.h>
+
+#include <boost/asio.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/websocket.hpp>
 #include <poll.h>
 
 #include <memory>
@@ -15,6 +19,12 @@
 
 namespace pslam::server::testing {
 namespace {
+
+namespace asio = boost::asio;
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace websocket = beast::websocket;
+using tcp = asio::ip::tcp;
 
 using Socket = websocket::stream<beast::tcp_stream>;
 

@@ -2,6 +2,8 @@
 // in a busy loop (which burned a core and wrote a log line per attempt), and serves again once
 // they have closed.
 #include <gtest/gtest.h>
+
+#include <boost/asio.hpp>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -19,6 +21,9 @@
 
 namespace pslam::server::testing {
 namespace {
+
+namespace asio = boost::asio;
+using tcp = asio::ip::tcp;
 
 // User + system CPU time of a process, in seconds (/proc/PID/stat fields 14 and 15).
 double CpuSeconds(pid_t pid) {

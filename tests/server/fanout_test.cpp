@@ -5,6 +5,8 @@
 // runs the session again. Node B starts before the session exists, so it never resumes it itself.
 #include <gtest/gtest.h>
 
+#include <boost/asio.hpp>
+
 #include <atomic>
 #include <cstring>
 #include <fstream>
@@ -21,6 +23,9 @@
 
 namespace pslam::server::testing {
 namespace {
+
+namespace asio = boost::asio;
+using tcp = asio::ip::tcp;
 
 // What one viewer has been shown: the latest frame per tile, the latest pose and stats.
 struct Picture {

@@ -88,10 +88,10 @@ TEST(RestTest, EveryEndpointAnswers) {
   ASSERT_EQ(created.status, 201) << created.body;
   const std::string api_id = created.Json()["id"];
   EXPECT_EQ(created.Json()["status"], "active");
-  EXPECT_EQ(Request(port, http::verb::delete_, "/api/sessions/" + api_id).status, 204);
+  EXPECT_EQ(Request(port, "DELETE", "/api/sessions/" + api_id).status, 204);
   EXPECT_EQ(Get(port, "/api/sessions/" + api_id).status, 404);
-  EXPECT_EQ(Request(port, http::verb::delete_, "/api/sessions/" + api_id).status, 404);
-  EXPECT_EQ(Request(port, http::verb::put, "/api/sessions/" + id).status, 405);
+  EXPECT_EQ(Request(port, "DELETE", "/api/sessions/" + api_id).status, 404);
+  EXPECT_EQ(Request(port, "PUT", "/api/sessions/" + id).status, 405);
 }
 
 TEST(RestTest, ReplayOfAStoredSessionReproducesItsMapForTheSameSeed) {
