@@ -116,10 +116,17 @@ describe('web viewer against pslam-server and pslam-agent', { skip }, () => {
     // Hold the camera still (a user zoom turns auto-fit off), so only the map changes the picture.
     await page.locator('.pane button[aria-label="Zoom out"]').click();
     await page.locator('.pane button[aria-label="Zoom out"]').click();
-    const s1 = await paneState(page);
-    const p1 = await canvasStats(page);
+    // The robot may have seen little yet: wait for a first patch of free space on screen.
+    const { s: s1, p: p1 } = await waitFor(
+      'free space drawn (over 500 bright pixels)',
+      async () => {
+        const s = await paneState(page);
+        const p = await canvasStats(page);
+        return p.bright > 500 && { s, p };
+      },
+      { timeoutMs: 60000, intervalMs: 500 },
+    );
     await shot('02-map-early');
-    assert.ok(p1.bright > 500, `free space is drawn (${p1.bright} bright pixels)`);
     const grown = await waitFor(
       'the map to grow on screen',
       async () => {
