@@ -121,7 +121,8 @@ TEST_F(CarmenLimitsTest, PosesOfATrillionMetresAreCorruptLines) {
 
 // Exit status of `pslam run <log>` (the real binary), its stderr in 'err'.
 int RunCli(const fs::path& log, const fs::path& err) {
-  const std::string command = std::string(PSLAM_CLI_BINARY) + " run --quiet --particles 5 --threads 2 --log " + log.string() + " >/dev/null 2>" + err.string();
+  std::string command = PSLAM_CLI_BINARY;
+  command += " run --quiet --particles 5 --threads 2 --log " + log.string() + " >/dev/null 2>" + err.string();
   return std::system(command.c_str());
 }
 

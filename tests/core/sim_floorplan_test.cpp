@@ -103,7 +103,9 @@ TEST(SimFloorPlanTest, WrittenFilesLoadWithTheirStart) {
 }
 
 int RunCli(const std::string& arguments) {
-  const int status = std::system((std::string(PSLAM_CLI_BINARY) + " " + arguments + " >/dev/null 2>&1").c_str());
+  std::string command = PSLAM_CLI_BINARY;
+  command += " " + arguments + " >/dev/null 2>&1";
+  const int status = std::system(command.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
