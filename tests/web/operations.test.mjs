@@ -26,7 +26,9 @@ import {
 const missing = [serverBinary, agentBinary, join(distDir, 'index.html')].filter((f) => !existsSync(f));
 const skip = missing.length ? `missing ${missing.join(', ')} (build the project and web/ first)` : false;
 const world = process.env.PSLAM_EXPLORE_WORLD ?? 'maze';
-const rate = process.env.PSLAM_EXPLORE_RATE ?? '4';
+// Simulated seconds per wall second: at 8 the server keeps up on two cores and the maze is explored
+// in about two minutes.
+const rate = process.env.PSLAM_EXPLORE_RATE ?? '8';
 const intelLog = join(repoRoot, '..', 'shared', 'data', 'intel', 'intel.clf');
 
 async function getJson(url, init) {
