@@ -89,8 +89,10 @@ int RunExtendExperiment(CliArgs& cli) {
       auto old_map = std::make_shared<const OccupancyGrid>(first.slam().filter().best().map);
       // Walls move where the first session saw them: a change it never mapped tests nothing.
       std::vector<WallMove> moves;
-      const World changed =
-          given ? *given : MoveWalls(world->world, world->start.translation(), move_options, &moves, old_map.get());
+      const World changed = [&] {
+        if (given) return *given;
+        return MoveWalls(world->world, world->start.translation(), move_options, &moves, old_map.get());
+      }();
       if (write_changed) SaveWorld(changed, *write_changed + "-" + std::to_string(seed), world->start, "moved walls of " + world->path);
       const OccupancyGrid changed_truth = changed.ToGrid();
       const double v1 = BuiltMapSimilarity(*old_map, original_truth), stale = BuiltMapSimilarity(*old_map, changed_truth);
