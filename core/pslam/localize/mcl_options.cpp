@@ -30,6 +30,9 @@ const OptionTable<MclOptions>& Setters() {
       {"unlocalized_refine_shift", Option(&MclOptions::unlocalized_refine_shift)},
       {"unlocalized_refine_turn", Option(&MclOptions::unlocalized_refine_turn)},
       {"seed", Option(&MclOptions::seed)},
+      {"scan_odometry.enabled", Option(&MclOptions::scan_odometry, &ScanOdometryOptions::enabled)},
+      {"scan_odometry.scans_per_map", Option(&MclOptions::scan_odometry, &ScanOdometryOptions::scans_per_map)},
+      {"scan_odometry.min_constrained_ratio", Option(&MclOptions::scan_odometry, &ScanOdometryOptions::min_constrained_ratio)},
       {"motion.rotation_per_rotation", Option(&MclOptions::motion, &MotionNoise::rotation_per_rotation)},
       {"motion.rotation_per_translation", Option(&MclOptions::motion, &MotionNoise::rotation_per_translation)},
       {"motion.translation_per_translation", Option(&MclOptions::motion, &MotionNoise::translation_per_translation)},
@@ -74,6 +77,7 @@ std::string ValidateMclOptions(const MclOptions& o) {
   if (o.refine_max_points < 1 || !(o.refine_max_shift >= 0.0) || !(o.refine_max_turn >= 0.0) ||
       !(o.unlocalized_refine_shift >= 0.0) || !(o.unlocalized_refine_turn >= 0.0))
     return "need refine_max_points >= 1 and non-negative refine and unlocalized_refine bounds";
+  if (o.scan_odometry.scans_per_map < 1 || o.scan_odometry.scans_per_map > 10000) return "need 1 <= scan_odometry.scans_per_map <= 10000";
   return "";
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "pslam/filter/motion_model.hpp"
+#include "pslam/localize/scan_odometry.hpp"
 #include "pslam/sensor/scan_points.hpp"
 
 namespace pslam {
@@ -94,6 +95,9 @@ struct MclOptions {
   double unlocalized_refine_shift = 0.0;            // m; 0.25 in the measurements
   double unlocalized_refine_turn = 0.15;            // rad
 
+  // Odometry corrected by matching each scan against the last few (scan_odometry.hpp), in place of
+  // the wheels' own. Off by default.
+  ScanOdometryOptions scan_odometry;
   std::uint64_t seed = 1;
 };
 

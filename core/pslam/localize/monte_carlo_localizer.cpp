@@ -58,6 +58,7 @@ MonteCarloLocalizer::MonteCarloLocalizer(const OccupancyGrid& map, const MclOpti
           throw std::invalid_argument(problem);
         return map;
       }(), options.likelihood),
+      scan_odometry_(options.scan_odometry),
       resolution_(map.resolution()) {
   const CellBox known = map.KnownBounds();
   for (int y = known.min.y(); y <= known.max.y(); ++y) {
@@ -194,11 +195,14 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
   ++stats_.scans;
   last_.updated = last_.resampled = false;
   last_.injected = 0;
+  // Between updates the estimate moves by odometry: the wheels', or theirs corrected by matching
+  // the scan against the scans before it (scan_odometry.hpp).
+  const Pose2D odometry = options_.scan_odometry.enabled ? scan_odometry_.Correct(scan) : scan.odometry;
   if (!have_odometry_) {
-    update_odometry_ = scan.odometry;
+    update_odometry_ = odometry;
     have_odometry_ = true;
   }
-  const Pose2D delta = Between(update_odometry_, scan.odometry);
+  const Pose2D delta = Between(update_odometry_, odometry);
   if (!force_update_ && !MovedEnough(delta, options_)) {
     last_.estimate = last_.cluster.mean * delta;  // between updates, odometry carries the estimate
     RefineEstimate(scan);
@@ -209,7 +213,7 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
     std::mt19937_64 rng = MakeStream(options_.seed, step_, StreamIndex(kMotion, i));
     poses_[i] = poses_[i] * SampleMotion(delta, options_.motion, rng);
   }
-  update_odometry_ = scan.odometry;
+  update_odometry_ = odometry;
   force_update_ = false;
   const std::vector<Eigen::Vector2f> points = SelectBeams(ToScanPoints(scan, options_.points).hits, options_.likelihood.max_beams);
   if (!points.empty() && !last_.localized && options_.unlocalized_refine_shift > 0.0) {

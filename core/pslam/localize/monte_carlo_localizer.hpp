@@ -13,6 +13,7 @@
 #include "pslam/grid/occupancy_grid.hpp"
 #include "pslam/localize/likelihood_field.hpp"
 #include "pslam/localize/mcl_options.hpp"
+#include "pslam/localize/scan_odometry.hpp"
 #include "pslam/localize/particle_clusters.hpp"
 #include "pslam/sensor/laser_scan.hpp"
 
@@ -74,6 +75,7 @@ class MonteCarloLocalizer {
 
   MclOptions options_;
   LikelihoodField field_;
+  ScanOdometry scan_odometry_;
   double resolution_;
   std::vector<Eigen::Vector2i> free_cells_;
   std::vector<Pose2D> poses_;
