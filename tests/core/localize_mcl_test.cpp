@@ -243,6 +243,12 @@ TEST(LocalizeMclTest, RejectsBadMapsOptionsAndPoses) {
   inverted.min_particles = 10;
   inverted.max_particles = 5;
   EXPECT_THROW(MonteCarloLocalizer(room.map, inverted), std::invalid_argument);
+  MclOptions no_local_map;
+  no_local_map.scan_odometry.scans_per_map = 0;
+  EXPECT_THROW(MonteCarloLocalizer(room.map, no_local_map), std::invalid_argument);
+  MclOptions ratio_above_one;
+  EXPECT_EQ(SetMclOption(ratio_above_one, "scan_odometry.min_constrained_ratio", "1.5"), "");
+  EXPECT_THROW(MonteCarloLocalizer(room.map, ratio_above_one), std::invalid_argument);
   MonteCarloLocalizer mcl(room.map, MclOptions{});
   EXPECT_THROW(mcl.SetPose(room.start, -Eigen::Matrix3d::Identity()), std::invalid_argument);
   EXPECT_THROW(mcl.SetPose(Pose2D(std::nan(""), 0.0, 0.0), Eigen::Matrix3d::Identity()), std::invalid_argument);

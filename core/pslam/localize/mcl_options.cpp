@@ -78,6 +78,8 @@ std::string ValidateMclOptions(const MclOptions& o) {
       !(o.unlocalized_refine_shift >= 0.0) || !(o.unlocalized_refine_turn >= 0.0))
     return "need refine_max_points >= 1 and non-negative refine and unlocalized_refine bounds";
   if (o.scan_odometry.scans_per_map < 1 || o.scan_odometry.scans_per_map > 10000) return "need 1 <= scan_odometry.scans_per_map <= 10000";
+  if (!(o.scan_odometry.min_constrained_ratio >= 0.0 && o.scan_odometry.min_constrained_ratio <= 1.0))
+    return "need 0 <= scan_odometry.min_constrained_ratio <= 1";
   return "";
 }
 

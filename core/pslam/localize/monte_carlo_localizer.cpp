@@ -195,8 +195,8 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
   ++stats_.scans;
   last_.updated = last_.resampled = false;
   last_.injected = 0;
-  // Between updates the estimate moves by odometry: the wheels', or theirs corrected by matching
-  // the scan against the scans before it (scan_odometry.hpp).
+  // Between updates the estimate moves by odometry: the wheels' own, or corrected by matching the
+  // scan against the scans before it (scan_odometry.hpp).
   const Pose2D odometry = options_.scan_odometry.enabled ? scan_odometry_.Correct(scan) : scan.odometry;
   if (!have_odometry_) {
     update_odometry_ = odometry;

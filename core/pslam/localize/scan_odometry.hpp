@@ -21,8 +21,8 @@ namespace pslam {
 
 struct ScanOdometryOptions {
   bool enabled = false;
-  int scans_per_map = 30;
-  double resolution = 0.05;
+  int scans_per_map = 30;     // scans a local map takes before the next one starts
+  double resolution = 0.05;   // metres per cell of the local maps
   ScanMatchOptions match{.coarsest_level = 2, .degenerate_ratio = 0.15};
   double min_constrained_ratio = 0.3;  // TranslationConstraintRatio a match needs to be used
   ScanPointsOptions points{.max_usable_range = 20.0, .no_return_free_range = 0.0, .min_point_spacing = 0.03};
