@@ -5,19 +5,25 @@ Over a fraction of a second wheel odometry is off by millimetres, not decimetres
 between two scans less than --max-gap seconds apart whose translation differs from the odometry's
 by more than --min-disagreement metres is therefore doubtful (e.g. a robot that would have moved
 0.75 m in 0.48 s), and every trajectory pays for it alike. This lists those relations and, for
-each trajectory given, the RPE translation mean over all relations, over the doubtful ones and
-over the rest (the same formula as `pslam eval`), so that a mean can be read against how much of
+each trajectory given, `pslam eval`'s RPE translation mean over all relations, over the doubtful
+ones and over the rest, so that a mean can be read against how much of
 it such relations make. It also counts the short relations whose forward translation equals the
 odometry's to half a millimetre, or differs from it by a whole number of 5 cm steps (to 5 mm):
 relations made by correcting odometry on a 5 cm grid carry that grid's rounding. A log whose recorder got odometry wrong (FR079 when backing up, see
 docs/loop-closure.md) shows up here as well: read the list before the figures.
 
 Usage: tests/bench/relations_vs_odometry.py LOG.clf LOG.relations [TRAJECTORY...]
-       [--max-gap 2.0] [--min-disagreement 0.08] [--list]
+       [--max-gap 2.0] [--min-disagreement 0.08] [--list]      Env: PSLAM_BIN (default build/bin/pslam)
 """
 import argparse
+import json
 import math
+import os
+import subprocess
 import sys
+import tempfile
+
+PSLAM = os.environ.get("PSLAM_BIN", os.path.join(os.path.dirname(__file__), "..", "..", "build", "bin", "pslam"))
 
 
 def scan_odometry(log_path):
@@ -34,23 +40,25 @@ def scan_odometry(log_path):
     return odometry
 
 
-def trajectory(path):
-    poses = {}
-    with open(path) as f:
-        for line in f:
-            fields = line.split()
-            if len(fields) >= 4 and not line.startswith("#"):
-                poses[round(float(fields[0]), 3)] = tuple(map(float, fields[1:4]))
-    return poses
+def rpe(trajectory, relation_lines):
+    """pslam eval's RPE translation mean and relation count over the given relation lines."""
+    with tempfile.NamedTemporaryFile("w", suffix=".relations") as f:
+        f.writelines(relation_lines)
+        f.flush()
+        out = subprocess.run([PSLAM, "eval", "--json", "--trajectory", trajectory, "--relations", f.name,
+                              "--max-missing", "100"], check=True, capture_output=True, text=True).stdout
+    result = json.loads(out)
+    return result["trans_mean_m"], result["used"]
 
 
 def relations(path):
+    """(t1, t2, x, y, line) of each relation."""
     out = []
     with open(path) as f:
         for line in f:
             fields = line.split()
             if len(fields) >= 8:
-                out.append((float(fields[0]), float(fields[1]), float(fields[2]), float(fields[3])))
+                out.append((float(fields[0]), float(fields[1]), float(fields[2]), float(fields[3]), line))
     return out
 
 
@@ -80,7 +88,7 @@ def main():
     all_relations = relations(args.relations)
     doubtful = set()
     short = same = stepped = 0
-    for k, (t1, t2, x, y) in enumerate(all_relations):
+    for k, (t1, t2, x, y, _) in enumerate(all_relations):
         a, b = lookup(odometry, t1), lookup(odometry, t2)
         if a is None or b is None or t2 - t1 >= args.max_gap:
             continue
@@ -103,25 +111,15 @@ def main():
               f"off by whole 5 cm steps: {stepped} ({100 * stepped / short:.0f} %; {100 * 0.2 * (short - same) / short:.0f} % "
               f"expected by chance)")
 
+    doubtful_lines = [r[4] for k, r in enumerate(all_relations) if k in doubtful]
+    other_lines = [r[4] for k, r in enumerate(all_relations) if k not in doubtful]
     for path in args.trajectories:
-        poses = trajectory(path)
-        errors, doubtful_errors, other_errors = [], [], []
-        for k, (t1, t2, x, y) in enumerate(all_relations):
-            a, b = lookup(poses, t1), lookup(poses, t2)
-            if a is None or b is None:
-                continue
-            ex, ey = between(a, b)
-            e = math.hypot(ex - x, ey - y)
-            errors.append(e)
-            (doubtful_errors if k in doubtful else other_errors).append(e)
-        if not errors:
-            print(f"{path}: no relation matched a pose")
-            continue
-        mean = lambda v: sum(v) / len(v) if v else float("nan")
-        print(f"{path}: RPE translation mean {mean(errors):.4f} m over {len(errors)}; "
-              f"doubtful {mean(doubtful_errors):.4f} m over {len(doubtful_errors)} "
-              f"({100 * sum(doubtful_errors) / sum(errors):.1f} % of the sum); "
-              f"the rest {mean(other_errors):.4f} m over {len(other_errors)}")
+        mean, used = rpe(path, [r[4] for r in all_relations])
+        doubtful_mean, doubtful_used = rpe(path, doubtful_lines) if doubtful_lines else (float("nan"), 0)
+        other_mean, other_used = rpe(path, other_lines)
+        share = 100 * doubtful_mean * doubtful_used / (mean * used) if doubtful_used else 0.0
+        print(f"{path}: RPE translation mean {mean:.4f} m over {used}; doubtful {doubtful_mean:.4f} m over "
+              f"{doubtful_used} ({share:.1f} % of the sum); the rest {other_mean:.4f} m over {other_used}")
 
 
 if __name__ == "__main__":

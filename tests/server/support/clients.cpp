@@ -13,6 +13,18 @@ namespace websocket = beast::websocket;
 namespace asio = boost::asio;
 using tcp = asio::ip::tcp;
 
+namespace {
+
+HttpResult ToResult(const http::response<http::string_body>& response) {
+  HttpResult r;
+  r.status = static_cast<int>(response.result_int());
+  r.body = response.body();
+  for (const auto& field : response) r.headers[std::string(field.name_string())] = std::string(field.value());
+  return r;
+}
+
+}  // namespace
+
 HttpResult Request(unsigned short port, const std::string& method, const std::string& target, const std::string& body,
                    const std::map<std::string, std::string>& headers) {
   asio::io_context ioc;
@@ -37,13 +49,9 @@ HttpResult Request(unsigned short port, const std::string& method, const std::st
   http::response_parser<http::string_body> parser;
   parser.body_limit(256u << 20);
   http::read(stream, buffer, parser);
-  HttpResult r;
-  r.status = static_cast<int>(parser.get().result_int());
-  r.body = parser.get().body();
-  for (const auto& field : parser.get()) r.headers[std::string(field.name_string())] = std::string(field.value());
   beast::error_code ec;
   stream.socket().shutdown(tcp::socket::shutdown_both, ec);
-  return r;
+  return ToResult(parser.get());
 }
 
 HttpResult RawRequest(unsigned short port, const std::string& bytes) {
@@ -55,11 +63,7 @@ HttpResult RawRequest(unsigned short port, const std::string& bytes) {
   beast::flat_buffer buffer;
   http::response<http::string_body> res;
   http::read(stream, buffer, res);
-  HttpResult r;
-  r.status = static_cast<int>(res.result_int());
-  r.body = res.body();
-  for (const auto& field : res) r.headers[std::string(field.name_string())] = std::string(field.value());
-  return r;
+  return ToResult(res);
 }
 
 struct WsClient::Connection {
