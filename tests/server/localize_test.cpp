@@ -202,11 +202,19 @@ TEST(LocalizeTest, GlobalLocalizationWithoutAPose) {
   agent.SendJson(Hello("new", {{"mode", "localize"}, {"site", site}}));
   const std::string id = (*agent.ReadType("welcome"))["session_id"];
   constexpr int kScans = 150;  // 12 m of travel
-  for (std::int64_t seq = 1; seq <= kScans; ++seq) SendLocalizeScan(agent, seq);
+  constexpr int kFirst = 5;    // under a metre: too little seen to search the map yet
+  for (std::int64_t seq = 1; seq <= kFirst; ++seq) SendLocalizeScan(agent, seq);
+  ASSERT_EQ(WaitForAck(agent, kFirst), kFirst);
+  WaitProcessed(port, id, kFirst);
+  const auto early = Get(port, "/api/sessions/" + id + "/stats").Json()["filter"]["localization"];
+  EXPECT_FALSE(early["localized"].get<bool>()) << early;
+  EXPECT_EQ(early["place"], "searching") << early;
+  for (std::int64_t seq = kFirst + 1; seq <= kScans; ++seq) SendLocalizeScan(agent, seq);
   ASSERT_EQ(WaitForAck(agent, kScans), kScans);
   WaitProcessed(port, id, kScans);
   const auto stats = Get(port, "/api/sessions/" + id + "/stats").Json()["filter"];
   EXPECT_TRUE(stats["localization"]["localized"].get<bool>()) << stats;
+  EXPECT_EQ(stats["localization"]["place"], "") << stats;  // recognized: tracking
   ASSERT_EQ(Post(port, "/api/sessions/" + id + "/close", "").status, 200);
   const auto poses = Get(port, "/api/sessions/" + id + "/trajectory").Json()["poses"];
   ASSERT_EQ(poses.size(), static_cast<std::size_t>(kScans));

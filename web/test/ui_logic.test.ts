@@ -152,6 +152,13 @@ describe('localization rows', () => {
     expect(localizationRows({ mode: 'localize', localization: { localized: false } })[1].value).toBe('no');
   });
 
+  it('say while global localization still searches the map, and when look-alike places remain', () => {
+    const place = (p: string) => localizationRows({ mode: 'localize', localization: { localized: false, place: p } }).find((r) => r.label === 'place')?.value;
+    expect(place('searching')).toBe('searching the map');
+    expect(place('look_alike')).toBe('look-alike places: drive on');
+    expect(place('')).toBeUndefined();
+  });
+
   it('label the phase of an extend session, with the localization only while it localizes', () => {
     const localizing = localizationRows({ mode: 'extend_localize', localization: { localized: false } });
     expect(localizing.map((r) => r.value)).toEqual(['extend a site map: localizing on it', 'no']);

@@ -33,6 +33,15 @@ const OptionTable<MclOptions>& Setters() {
       {"scan_odometry.enabled", Option(&MclOptions::scan_odometry, &ScanOdometryOptions::enabled)},
       {"scan_odometry.scans_per_map", Option(&MclOptions::scan_odometry, &ScanOdometryOptions::scans_per_map)},
       {"scan_odometry.min_constrained_ratio", Option(&MclOptions::scan_odometry, &ScanOdometryOptions::min_constrained_ratio)},
+      {"place.enabled", Option(&MclOptions::place, &PlaceRecognitionOptions::enabled)},
+      {"place.cloud_travel", Option(&MclOptions::place, &PlaceRecognitionOptions::cloud_travel)},
+      {"place.max_points", Option(&MclOptions::place, &PlaceRecognitionOptions::max_points)},
+      {"place.first_search_after", Option(&MclOptions::place, &PlaceRecognitionOptions::first_search_after)},
+      {"place.search_every", Option(&MclOptions::place, &PlaceRecognitionOptions::search_every)},
+      {"place.search_resolution", Option(&MclOptions::place, &PlaceRecognitionOptions::search_resolution)},
+      {"place.min_score", Option(&MclOptions::place, &PlaceRecognitionOptions::min_score)},
+      {"place.ambiguity_ratio", Option(&MclOptions::place, &PlaceRecognitionOptions::ambiguity_ratio)},
+      {"place.ambiguity_distance", Option(&MclOptions::place, &PlaceRecognitionOptions::ambiguity_distance)},
       {"motion.rotation_per_rotation", Option(&MclOptions::motion, &MotionNoise::rotation_per_rotation)},
       {"motion.rotation_per_translation", Option(&MclOptions::motion, &MotionNoise::rotation_per_translation)},
       {"motion.translation_per_translation", Option(&MclOptions::motion, &MotionNoise::translation_per_translation)},
@@ -80,6 +89,13 @@ std::string ValidateMclOptions(const MclOptions& o) {
   if (o.scan_odometry.scans_per_map < 1 || o.scan_odometry.scans_per_map > 10000) return "need 1 <= scan_odometry.scans_per_map <= 10000";
   if (!(o.scan_odometry.min_constrained_ratio >= 0.0 && o.scan_odometry.min_constrained_ratio <= 1.0))
     return "need 0 <= scan_odometry.min_constrained_ratio <= 1";
+  const PlaceRecognitionOptions& p = o.place;
+  if (!(p.cloud_travel > 0.0 && p.cloud_travel <= 100.0) || p.max_points < 10 || p.max_points > 100000)
+    return "need 0 < place.cloud_travel <= 100 m and 10 <= place.max_points <= 100000";
+  if (!(p.search_resolution >= 0.01 && p.search_resolution <= 1.0)) return "need 0.01 <= place.search_resolution <= 1 m";
+  if (!(p.first_search_after >= 0.0) || !(p.search_every > 0.0)) return "need place.first_search_after >= 0 and place.search_every > 0";
+  if (!(p.min_score > 0.0 && p.min_score < 1.0) || !(p.ambiguity_ratio > 0.0 && p.ambiguity_ratio <= 1.0) || !(p.ambiguity_distance > 0.0))
+    return "need 0 < place.min_score < 1, 0 < place.ambiguity_ratio <= 1 and place.ambiguity_distance > 0";
   return "";
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "pslam/filter/motion_model.hpp"
+#include "pslam/localize/place_recognizer.hpp"
 #include "pslam/localize/scan_odometry.hpp"
 #include "pslam/sensor/scan_points.hpp"
 
@@ -98,6 +99,10 @@ struct MclOptions {
   // Odometry corrected by matching each scan against the last few (scan_odometry.hpp), in place of
   // the wheels' own. Off by default.
   ScanOdometryOptions scan_odometry;
+  // Global localization searches the whole map for the cloud of the last metres' scans
+  // (place_recognizer.hpp) and starts tracking where that place is unique; while look-alike places
+  // remain, the localizer does not report itself localized, whatever its particles agree on.
+  PlaceRecognitionOptions place;
   std::uint64_t seed = 1;
 };
 

@@ -68,6 +68,7 @@ MonteCarloLocalizer::MonteCarloLocalizer(const OccupancyGrid& map, const MclOpti
     }
   }
   if (free_cells_.empty()) throw std::invalid_argument("the map has no free cell to localize in");
+  if (options_.place.enabled) places_.emplace(map, options_.place);
 }
 
 Pose2D MonteCarloLocalizer::RandomFreePose(std::mt19937_64& rng) const {
@@ -85,6 +86,8 @@ void MonteCarloLocalizer::Reset(std::vector<Pose2D> poses) {
   force_update_ = true;
   averaged_ = 0;
   ++step_;
+  last_.searching = false;
+  last_.place = PlaceMatch{};
   Summarize();
 }
 
@@ -114,6 +117,11 @@ void MonteCarloLocalizer::StartGlobal() {
     poses[i] = RandomFreePose(rng);
   }
   Reset(std::move(poses));
+  if (places_) {
+    places_->Reset();
+    last_.searching = true;
+    last_.localized = false;
+  }
 }
 
 std::vector<double> MonteCarloLocalizer::weights() const { return NormalizeLogWeights(log_weights_); }
@@ -206,6 +214,7 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
   if (!force_update_ && !MovedEnough(delta, options_)) {
     last_.estimate = last_.cluster.mean * delta;  // between updates, odometry carries the estimate
     RefineEstimate(scan);
+    SearchPlace(scan, odometry);
     return last_;
   }
   ++step_;
@@ -238,7 +247,33 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
   ++stats_.updates;
   Summarize();
   RefineEstimate(scan);
+  SearchPlace(scan, odometry);
   return last_;
+}
+
+void MonteCarloLocalizer::SearchPlace(const LaserScan& scan, const Pose2D& odometry) {
+  if (!last_.searching) return;
+  places_->Add(ToScanPoints(scan, options_.points).hits, odometry);
+  if (places_->SearchDue()) {
+    last_.place = places_->Search();
+    ++stats_.place_searches;
+  }
+  if (last_.place.outcome == PlaceMatch::Outcome::kUnique) {
+    // Tracking starts at the recognized place, fitted to this scan on the full-resolution field.
+    const PlaceMatch match = last_.place;
+    const std::vector<Eigen::Vector2f> points = SelectBeams(ToScanPoints(scan, options_.points).hits, options_.refine_max_points);
+    const Pose2D place = points.empty() ? match.pose : field_.Refine(points, match.pose, 2.0 * options_.place.search_resolution, 0.05);
+    SetPose(place, Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, 0.03 * 0.03).asDiagonal());
+    update_odometry_ = odometry;  // the particles stand at this scan's pose
+    last_.estimate = place;
+    last_.place = match;
+    ++stats_.places_recognized;
+    return;
+  }
+  // Until a place is recognized, the particles' agreement is no proof: a spread cloud settles on a
+  // look-alike place as readily as on the right one. Only where no place explains the last metres
+  // (a map that lacks what the robot sees) is their verdict all there is.
+  if (last_.place.outcome != PlaceMatch::Outcome::kNone || !places_->searched()) last_.localized = false;
 }
 
 void MonteCarloLocalizer::RefineEstimate(const LaserScan& scan) {

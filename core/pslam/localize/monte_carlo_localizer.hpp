@@ -7,14 +7,16 @@
 // from kidnapping. Deterministic for a seed.
 #include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "pslam/common/pose2d.hpp"
 #include "pslam/grid/occupancy_grid.hpp"
 #include "pslam/localize/likelihood_field.hpp"
 #include "pslam/localize/mcl_options.hpp"
-#include "pslam/localize/scan_odometry.hpp"
 #include "pslam/localize/particle_clusters.hpp"
+#include "pslam/localize/place_recognizer.hpp"
+#include "pslam/localize/scan_odometry.hpp"
 #include "pslam/sensor/laser_scan.hpp"
 
 namespace pslam {
@@ -31,7 +33,11 @@ struct MclUpdate {
   Pose2D estimate;
   ParticleCluster cluster;       // the heaviest cluster at the last update
   int clusters = 0;
-  bool localized = false;        // the heaviest cluster is heavy and tight enough (MclOptions)
+  // The heaviest cluster is heavy and tight enough (MclOptions), and global localization, if it
+  // is still searching, found no look-alike place.
+  bool localized = false;
+  bool searching = false;        // global localization is still searching the map for the place
+  PlaceMatch place;              // its last search (outcome kNone before the first)
 };
 
 struct MclStats {
@@ -41,6 +47,8 @@ struct MclStats {
   long long injected = 0;
   int min_particles_seen = 0;
   int max_particles_seen = 0;
+  int place_searches = 0;
+  int places_recognized = 0;     // searches that found a unique place and started tracking there
 };
 
 class MonteCarloLocalizer {
@@ -72,10 +80,12 @@ class MonteCarloLocalizer {
   void Resample();
   void Summarize();
   void RefineEstimate(const LaserScan& scan);
+  void SearchPlace(const LaserScan& scan, const Pose2D& odometry);
 
   MclOptions options_;
   LikelihoodField field_;
   ScanOdometry scan_odometry_;
+  std::optional<PlaceRecognizer> places_;  // with MclOptions::place.enabled
   double resolution_;
   std::vector<Eigen::Vector2i> free_cells_;
   std::vector<Pose2D> poses_;

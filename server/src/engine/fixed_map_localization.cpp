@@ -40,6 +40,7 @@ LocalizationStats FixedMapLocalization::status() const {
   s.heading_std_rad = u.cluster.heading_std;
   s.clusters = u.clusters;
   s.injected = mcl_.stats().injected;
+  if (u.searching) s.place = u.place.outcome == PlaceMatch::Outcome::kAmbiguous ? "look_alike" : "searching";
   return s;
 }
 

@@ -14,6 +14,9 @@ struct LocalizationStats {
   double heading_std_rad = 0.0;
   int clusters = 0;
   long long injected = 0;        // random particles injected so far (recovery after kidnapping)
+  // Global localization (no start pose): "searching" the map for the robot's place, "look_alike"
+  // while another place explains the last metres as well; empty once tracking.
+  std::string place;
 };
 
 struct EngineStats {

@@ -92,7 +92,8 @@ nlohmann::json EngineStatsToJson(const EngineStats& s) {
                          {"position_std_m", l.position_std_m},
                          {"heading_std_rad", l.heading_std_rad},
                          {"clusters", l.clusters},
-                         {"injected", l.injected}};
+                         {"injected", l.injected},
+                         {"place", l.place}};
   }
   return j;
 }

@@ -81,6 +81,9 @@ export interface LocalizationStats {
   heading_std_rad?: number;
   clusters?: number;
   injected?: number;
+  // Global localization: 'searching' the map for the place, 'look_alike' while another place
+  // explains the last metres as well; empty once tracking.
+  place?: string;
 }
 
 export interface SnapshotMessage {

@@ -33,6 +33,13 @@ export function localizationRows(st: EngineStats): StatRow[] {
     value: `${l.localized ? 'yes' : 'no'}${spread.length ? ` (${spread.join(', ')})` : ''}`,
     title: 'localized: the heaviest particle cluster holds at least 80 % of the weight within 0.15 m and 5°; its spread in brackets',
   });
+  if (l.place === 'searching' || l.place === 'look_alike') {
+    rows.push({
+      label: 'place',
+      value: l.place === 'searching' ? 'searching the map' : 'look-alike places: drive on',
+      title: 'global localization: the scans of the last metres are searched for over the whole map; where another place explains them as well, the robot must see more before it is localized',
+    });
+  }
   if (typeof l.cluster_weight === 'number') {
     rows.push({ label: 'best cluster', value: `${Math.round(l.cluster_weight * 100)} % of ${l.clusters ?? '?'} clusters`, title: 'weight of the heaviest particle cluster' });
   }
