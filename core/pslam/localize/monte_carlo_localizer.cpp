@@ -244,6 +244,12 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
       last_.injection_probability > 0.0) {
     Resample();
   }
+  // The fit dropped as after a kidnapping: the place is searched for again, from the scans after
+  // the drop (odometry does not know where the robot was carried).
+  if (last_.injection_probability > 0.0 && places_ && !last_.searching) {
+    places_->Reset();
+    last_.searching = true;
+  }
   ++stats_.updates;
   Summarize();
   RefineEstimate(scan);

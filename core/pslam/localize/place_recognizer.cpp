@@ -98,25 +98,33 @@ PlaceMatch PlaceRecognizer::Search() {
   PlaceMatch out;
   searched_at_ = travelled_;
   if (scans_.empty()) return out;
-  const std::vector<Eigen::Vector2f> cloud = Cloud();
+  std::vector<Eigen::Vector2f> cloud = Cloud();
   out.points = static_cast<int>(cloud.size());
   if (cloud.empty()) return out;
-  // The cloud is searched for at the map's centre over the whole map and every heading: the
-  // returned pose is where the newest scan's robot stands.
+  // The cloud is searched for about its centroid: the search's angular step shrinks with the
+  // farthest point's distance from the origin, and the newest scan is at the cloud's edge.
+  Eigen::Vector2f centroid = Eigen::Vector2f::Zero();
+  for (const Eigen::Vector2f& p : cloud) centroid += p;
+  centroid /= static_cast<float>(cloud.size());
+  for (Eigen::Vector2f& p : cloud) p -= centroid;
+  const Pose2D newest_in_cloud(-centroid.x(), -centroid.y(), 0.0);
+  const auto robot = [&](const Pose2D& cloud_pose) { return cloud_pose * newest_in_cloud; };
+  // Over the whole map from its centre, at every heading.
   BranchAndBoundOptions search{.linear_window = window_, .angular_window = std::numbers::pi, .min_score = options_.min_score};
   const BranchAndBoundResult best = MatchByBranchAndBound(stack_, cloud, guess_, search);
   if (!best.found) return out;
-  out.pose = best.pose;
+  out.pose = robot(best.pose);
   out.score = best.score;
   // The best place elsewhere, searched for only above what would make it a rival.
   search.min_score = std::max(options_.min_score, options_.ambiguity_ratio * best.score);
-  const auto near_best = [&](const Pose2D& p) {
-    return (p.translation() - best.pose.translation()).norm() < options_.ambiguity_distance &&
-           AngleBetween(p.theta, best.pose.theta) < options_.ambiguity_angle;
+  const auto near_best = [&](const Pose2D& cloud_pose) {
+    const Pose2D p = robot(cloud_pose);
+    return (p.translation() - out.pose.translation()).norm() < options_.ambiguity_distance &&
+           AngleBetween(p.theta, out.pose.theta) < options_.ambiguity_angle;
   };
   const BranchAndBoundResult rival = MatchByBranchAndBound(stack_, cloud, guess_, search, near_best);
   if (rival.found) {
-    out.rival = rival.pose;
+    out.rival = robot(rival.pose);
     out.rival_score = rival.score;
   }
   out.outcome = rival.found ? PlaceMatch::Outcome::kAmbiguous : PlaceMatch::Outcome::kUnique;
