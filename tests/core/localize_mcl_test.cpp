@@ -5,6 +5,7 @@
 
 #include <numbers>
 #include <stdexcept>
+#include <utility>
 
 #include "pslam/experiment/localization_tour.hpp"
 #include "pslam/io/map_io.hpp"
@@ -250,6 +251,12 @@ TEST(LocalizeMclTest, RejectsBadMapsOptionsAndPoses) {
   MclOptions ratio_above_one;
   EXPECT_EQ(SetMclOption(ratio_above_one, "scan_odometry.min_constrained_ratio", "1.5"), "");
   EXPECT_THROW(MonteCarloLocalizer(room.map, ratio_above_one), std::invalid_argument);
+  for (const auto& [name, value] : {std::pair{"place.max_points", "5000"}, {"place.search_resolution", "0.01"},
+                                     {"place.search_every", "0.1"}, {"place.ambiguity_ratio", "1.5"}}) {
+    MclOptions costly;
+    EXPECT_EQ(SetMclOption(costly, name, value), "") << name;
+    EXPECT_THROW(MonteCarloLocalizer(room.map, costly), std::invalid_argument) << name;
+  }
   MonteCarloLocalizer mcl(room.map, MclOptions{});
   EXPECT_THROW(mcl.SetPose(room.start, -Eigen::Matrix3d::Identity()), std::invalid_argument);
   EXPECT_THROW(mcl.SetPose(Pose2D(std::nan(""), 0.0, 0.0), Eigen::Matrix3d::Identity()), std::invalid_argument);

@@ -90,10 +90,12 @@ std::string ValidateMclOptions(const MclOptions& o) {
   if (!(o.scan_odometry.min_constrained_ratio >= 0.0 && o.scan_odometry.min_constrained_ratio <= 1.0))
     return "need 0 <= scan_odometry.min_constrained_ratio <= 1";
   const PlaceRecognitionOptions& p = o.place;
-  if (!(p.cloud_travel > 0.0 && p.cloud_travel <= 100.0) || p.max_points < 10 || p.max_points > 100000)
-    return "need 0 < place.cloud_travel <= 100 m and 10 <= place.max_points <= 100000";
-  if (!(p.search_resolution >= 0.01 && p.search_resolution <= 1.0)) return "need 0.01 <= place.search_resolution <= 1 m";
-  if (!(p.first_search_after >= 0.0) || !(p.search_every > 0.0)) return "need place.first_search_after >= 0 and place.search_every > 0";
+  // Bounded so that no setting makes one search take minutes (its cost grows with the points, and
+  // with the inverse cube of the resolution).
+  if (!(p.cloud_travel > 0.0 && p.cloud_travel <= 100.0) || p.max_points < 10 || p.max_points > 2000)
+    return "need 0 < place.cloud_travel <= 100 m and 10 <= place.max_points <= 2000";
+  if (!(p.search_resolution >= 0.05 && p.search_resolution <= 1.0)) return "need 0.05 <= place.search_resolution <= 1 m";
+  if (!(p.first_search_after >= 0.0) || !(p.search_every >= 0.5)) return "need place.first_search_after >= 0 and place.search_every >= 0.5 m";
   if (!(p.min_score > 0.0 && p.min_score < 1.0) || !(p.ambiguity_ratio > 0.0 && p.ambiguity_ratio <= 1.0) || !(p.ambiguity_distance > 0.0))
     return "need 0 < place.min_score < 1, 0 < place.ambiguity_ratio <= 1 and place.ambiguity_distance > 0";
   return "";
