@@ -97,7 +97,10 @@ struct MclOptions {
   double unlocalized_refine_turn = 0.15;            // rad
 
   // Odometry corrected by matching each scan against the last few (scan_odometry.hpp), in place of
-  // the wheels' own. Off by default.
+  // the wheels' own. On by default: on the ACES log it brought localization from 0.0556 to
+  // 0.0479 m RPE at seeds 1-5, and the place recognizer's cloud bends less; in the simulated
+  // worlds tracking moves by under a centimetre either way, at twice the CPU (still about half
+  // the mapping filter's).
   ScanOdometryOptions scan_odometry;
   // Global localization searches the whole map for the cloud of the last metres' scans
   // (place_recognizer.hpp) and starts tracking where that place is unique; while look-alike places

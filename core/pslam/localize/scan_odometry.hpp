@@ -20,7 +20,7 @@
 namespace pslam {
 
 struct ScanOdometryOptions {
-  bool enabled = false;
+  bool enabled = true;
   int scans_per_map = 30;     // scans a local map takes before the next one starts
   double resolution = 0.05;   // metres per cell of the local maps
   ScanMatchOptions match{.coarsest_level = 2, .degenerate_ratio = 0.15};
