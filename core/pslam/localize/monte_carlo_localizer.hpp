@@ -4,7 +4,9 @@
 // the likelihood field of the map, and are resampled (low variance) when N_eff falls. The count
 // adapts by KLD sampling between min and max particles; augmented MCL injects random particles
 // over the free space when the measurements suddenly fit worse than they used to, which recovers
-// from kidnapping. Deterministic for a seed.
+// from kidnapping. Without a pose (or after such a drop) the map is searched for the last metres
+// of scans (place_recognizer.hpp), and the robot counts as localized only once one place explains
+// them. Deterministic for a seed.
 #include <Eigen/Core>
 #include <cstdint>
 #include <optional>
