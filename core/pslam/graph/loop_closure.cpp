@@ -5,7 +5,8 @@
 #include <cmath>
 #include <limits>
 #include <queue>
-#include <unordered_set>
+
+#include "pslam/graph/thinned_cloud.hpp"
 
 namespace pslam {
 namespace {
@@ -72,21 +73,17 @@ void LoopCloser::AddToSubmap(int n) {
 }
 
 std::vector<Eigen::Vector2f> LoopCloser::MatchCloud(int n) const {
-  std::vector<Eigen::Vector2f> cloud;
-  std::unordered_set<std::int64_t> taken;
+  ThinnedCloud cloud(options_.cloud_spacing);
   const Pose2D& at = graph_.pose(n);
   // Newest first, so that the node's own scan wins a shared cell.
   for (int k = n; k >= std::max(0, n - options_.context_nodes + 1); --k) {
     const Pose2D relative = Between(at, graph_.pose(k));
     for (const Eigen::Vector2f& p : nodes_[static_cast<std::size_t>(k)].points.hits) {
       const Eigen::Vector2d q = relative * p.cast<double>();
-      if (q.norm() > options_.cloud_max_range) continue;
-      const auto kx = static_cast<std::int64_t>(std::floor(q.x() / options_.cloud_spacing));
-      const auto ky = static_cast<std::int64_t>(std::floor(q.y() / options_.cloud_spacing));
-      if (taken.insert((kx << 32) ^ (ky & 0xffffffff)).second) cloud.push_back(q.cast<float>());
+      if (q.norm() <= options_.cloud_max_range) cloud.Add(q);
     }
   }
-  return cloud;
+  return cloud.Take();
 }
 
 void LoopCloser::Link(int a, int b, double length) {

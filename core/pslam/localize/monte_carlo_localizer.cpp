@@ -23,15 +23,6 @@ enum Stream : std::uint64_t { kStart = 1, kMotion = 2, kResample = 3, kInjection
 
 std::uint64_t StreamIndex(Stream s, std::uint64_t index) { return (index << 3) | s; }
 
-// The endpoints scored: at most max_beams, evenly spread over the returns.
-std::vector<Eigen::Vector2f> SelectBeams(std::vector<Eigen::Vector2f> hits, int max_beams) {
-  const std::size_t n = hits.size(), m = static_cast<std::size_t>(max_beams);
-  if (n <= m) return hits;
-  std::vector<Eigen::Vector2f> out(m);
-  for (std::size_t i = 0; i < m; ++i) out[i] = hits[i * n / m];
-  return out;
-}
-
 double LogAddExp(double a, double b) {
   const double top = std::max(a, b);
   if (top == -INFINITY) return top;
@@ -224,7 +215,7 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
   }
   update_odometry_ = odometry;
   force_update_ = false;
-  const std::vector<Eigen::Vector2f> points = SelectBeams(ToScanPoints(scan, options_.points).hits, options_.likelihood.max_beams);
+  const std::vector<Eigen::Vector2f> points = SelectEvenly(ToScanPoints(scan, options_.points).hits, options_.likelihood.max_beams);
   if (!points.empty() && !last_.localized && options_.unlocalized_refine_shift > 0.0) {
     // While not localized, each particle first moves to the best-fitting pose near it, so that a
     // place's weight says how well the place explains the scan, not how close its nearest
@@ -259,21 +250,18 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
 
 void MonteCarloLocalizer::SearchPlace(const LaserScan& scan, const Pose2D& odometry) {
   if (!last_.searching) return;
-  places_->Add(ToScanPoints(scan, options_.points).hits, odometry);
-  if (places_->SearchDue()) {
-    last_.place = places_->Search();
-    ++stats_.place_searches;
-  }
+  const std::vector<Eigen::Vector2f> hits = ToScanPoints(scan, options_.points).hits;
+  places_->Add(hits, odometry);
+  if (places_->SearchDue()) last_.place = places_->Search();
   if (last_.place.outcome == PlaceMatch::Outcome::kUnique) {
     // Tracking starts at the recognized place, fitted to this scan on the full-resolution field.
     const PlaceMatch match = last_.place;
-    const std::vector<Eigen::Vector2f> points = SelectBeams(ToScanPoints(scan, options_.points).hits, options_.refine_max_points);
+    const std::vector<Eigen::Vector2f> points = SelectEvenly(hits, options_.refine_max_points);
     const Pose2D place = points.empty() ? match.pose : field_.Refine(points, match.pose, 2.0 * options_.place.search_resolution, 0.05);
     SetPose(place, Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, 0.03 * 0.03).asDiagonal());
     update_odometry_ = odometry;  // the particles stand at this scan's pose
     last_.estimate = place;
     last_.place = match;
-    ++stats_.places_recognized;
     return;
   }
   // Until a place is recognized, the particles' agreement is no proof: a spread cloud settles on a
@@ -284,7 +272,7 @@ void MonteCarloLocalizer::SearchPlace(const LaserScan& scan, const Pose2D& odome
 
 void MonteCarloLocalizer::RefineEstimate(const LaserScan& scan) {
   if (!options_.refine || !last_.localized) return;
-  const std::vector<Eigen::Vector2f> points = SelectBeams(ToScanPoints(scan, options_.points).hits, options_.refine_max_points);
+  const std::vector<Eigen::Vector2f> points = SelectEvenly(ToScanPoints(scan, options_.points).hits, options_.refine_max_points);
   if (!points.empty()) last_.estimate = field_.Refine(points, last_.estimate, options_.refine_max_shift, options_.refine_max_turn);
 }
 

@@ -49,8 +49,6 @@ struct MclStats {
   long long injected = 0;
   int min_particles_seen = 0;
   int max_particles_seen = 0;
-  int place_searches = 0;
-  int places_recognized = 0;     // searches that found a unique place and started tracking there
 };
 
 class MonteCarloLocalizer {

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <unordered_set>
+
+#include "pslam/graph/thinned_cloud.hpp"
+#include "pslam/sensor/scan_points.hpp"
 
 namespace pslam {
 namespace {
@@ -14,7 +16,7 @@ constexpr double kMinStep = 0.1;       // m
 constexpr double kMinTurn = 0.1;       // rad
 constexpr std::size_t kMaxScans = 400;
 
-double AngleBetween(double a, double b) { return std::abs(std::remainder(a - b, 2.0 * std::numbers::pi)); }
+double AngleBetween(double a, double b) { return std::abs(NormalizeAngle(a - b)); }
 
 // The map at a coarser resolution: each cell the most occupied of the known cells it covers. The
 // search over a whole building at every heading costs with the cube of the inverse resolution.
@@ -74,24 +76,13 @@ bool PlaceRecognizer::SearchDue() const {
 
 std::vector<Eigen::Vector2f> PlaceRecognizer::Cloud() const {
   const Pose2D to_newest = scans_.back().odometry.inverse();
-  const double cell = options_.cloud_spacing;
-  std::unordered_set<std::uint64_t> taken;
-  std::vector<Eigen::Vector2f> cloud;
+  ThinnedCloud thinned_cloud(options_.cloud_spacing);
   // Newest scans first: where the cloud is thinned, the points seen last (least drift) stay.
   for (auto scan = scans_.rbegin(); scan != scans_.rend(); ++scan) {
     const Pose2D relative = to_newest * scan->odometry;
-    for (const Eigen::Vector2f& hit : scan->hits) {
-      const Eigen::Vector2d p = relative * hit.cast<double>();
-      const auto kx = static_cast<std::int64_t>(std::floor(p.x() / cell)), ky = static_cast<std::int64_t>(std::floor(p.y() / cell));
-      const std::uint64_t key = (static_cast<std::uint64_t>(kx) << 32) ^ static_cast<std::uint32_t>(ky);
-      if (taken.insert(key).second) cloud.push_back(p.cast<float>());
-    }
+    for (const Eigen::Vector2f& hit : scan->hits) thinned_cloud.Add(relative * hit.cast<double>());
   }
-  const std::size_t n = cloud.size(), m = static_cast<std::size_t>(options_.max_points);
-  if (n <= m) return cloud;
-  std::vector<Eigen::Vector2f> thinned(m);
-  for (std::size_t i = 0; i < m; ++i) thinned[i] = cloud[i * n / m];
-  return thinned;
+  return SelectEvenly(thinned_cloud.Take(), options_.max_points);
 }
 
 PlaceMatch PlaceRecognizer::Search() {

@@ -1,5 +1,6 @@
 #include "pslam/sensor/scan_points.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace pslam {
@@ -30,6 +31,14 @@ ScanPoints ToScanPoints(const LaserScan& scan, const ScanPointsOptions& options)
       }
     }
   }
+  return out;
+}
+
+std::vector<Eigen::Vector2f> SelectEvenly(std::vector<Eigen::Vector2f> points, int max_count) {
+  const std::size_t n = points.size(), m = static_cast<std::size_t>(std::max(0, max_count));
+  if (n <= m) return points;
+  std::vector<Eigen::Vector2f> out(m);
+  for (std::size_t i = 0; i < m; ++i) out[i] = points[i * n / m];
   return out;
 }
 

@@ -22,4 +22,7 @@ struct ScanPoints {
 
 ScanPoints ToScanPoints(const LaserScan& scan, const ScanPointsOptions& options);
 
+// At most max_count of the points, evenly spread over them in their order.
+std::vector<Eigen::Vector2f> SelectEvenly(std::vector<Eigen::Vector2f> points, int max_count);
+
 }  // namespace pslam
