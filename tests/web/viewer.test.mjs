@@ -253,10 +253,16 @@ describe('web viewer against pslam-server and pslam-agent', { skip }, () => {
     }
     assert.deepEqual(replays.map((r) => r.settings.predict).sort(), [false, true]);
     await page.locator('.panes.compare').waitFor();
-    // Linked cameras: zooming one pane zooms the other.
+    // Linked cameras: zooming one pane zooms the other, and the other stops fitting its own map
+    // while the replay keeps drawing.
+    const scalesNow = () => page.evaluate(() => window.pslam.app.views.map((v) => v.viewer.camera.scale));
     await page.locator('.pane').nth(0).locator('button[aria-label="Zoom in"]').click();
-    await page.waitForTimeout(300);
-    const scales = await page.evaluate(() => window.pslam.app.views.map((v) => v.viewer.camera.scale));
+    await waitFor('the other pane to take the zoom', async () => {
+      const s = await scalesNow();
+      return s[0] === s[1] && s;
+    });
+    await page.waitForTimeout(1000);
+    const scales = await scalesNow();
     assert.equal(scales[0], scales[1]);
     await page.locator('.pane').nth(0).locator('[data-action="fit"]').click();
     await page.waitForTimeout(1500);

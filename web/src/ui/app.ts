@@ -199,6 +199,11 @@ export class App {
       if (!this.prefs.linkCameras || this.views.length !== 2) return;
       for (const other of this.views) if (other !== v) other.viewer.setCamera(camera);
     };
+    // Linked panes share one camera, so a pane left fitting itself would pull the other back.
+    v.onUserAutoFit = (on) => {
+      if (!this.prefs.linkCameras || this.views.length !== 2) return;
+      for (const other of this.views) if (other !== v) other.setAutoFit(on);
+    };
     v.start();
     return v;
   }

@@ -48,6 +48,8 @@ export class SessionView {
   private unsubscribe: () => void;
   onFocus: (() => void) | null = null;
   onChange: ((kind: string) => void) | null = null;
+  // The user turned auto-fit on or off here (linked panes follow suit).
+  onUserAutoFit: ((on: boolean) => void) | null = null;
 
   constructor(readonly sessionId: string, visibility: Record<string, boolean>, coloring: HypothesisColoring) {
     this.name = sessionId;
@@ -83,7 +85,7 @@ export class SessionView {
         this.poseButton,
         button(icons.zoomOut, 'Zoom out', () => this.userZoom(0.8)),
         button(icons.zoomIn, 'Zoom in', () => this.userZoom(1.25)),
-        button(icons.fit, 'Fit the map and keep it fitted as it grows (double-click the map)', () => this.setAutoFit(true), { 'data-action': 'fit' }),
+        button(icons.fit, 'Fit the map and keep it fitted as it grows (double-click the map)', () => this.userAutoFit(true), { 'data-action': 'fit' }),
         this.followButton,
         this.pauseButton,
       ),
@@ -117,8 +119,8 @@ export class SessionView {
       return c === 255 ? 'unknown' : `${c} % occupied`;
     };
     v.follow = () => (this.following ? this.client.robot.pose : null);
-    v.onUserCamera = () => this.setAutoFit(false);
-    mapHost.addEventListener('dblclick', () => this.setAutoFit(true));
+    v.onUserCamera = () => this.userAutoFit(false);
+    mapHost.addEventListener('dblclick', () => this.userAutoFit(true));
     v.onClick = (x, y) => this.pickHypothesis(x, y);
     this.unsubscribe = this.client.subscribe((e) => {
       if (e.kind === 'state' || e.kind === 'status' || e.kind === 'snapshot' || e.kind === 'error') this.updateHeader();
@@ -213,8 +215,13 @@ export class SessionView {
     }
   }
 
+  private userAutoFit(on: boolean): void {
+    this.setAutoFit(on);
+    this.onUserAutoFit?.(on);
+  }
+
   private userZoom(factor: number): void {
-    this.setAutoFit(false);
+    this.userAutoFit(false);
     this.viewer.zoomBy(factor);
   }
 
@@ -251,7 +258,7 @@ export class SessionView {
       : { minX: (e.h.target_cell[0] - 40) * res, minY: (e.h.target_cell[1] - 40) * res, maxX: (e.h.target_cell[0] + 40) * res, maxY: (e.h.target_cell[1] + 40) * res };
     const pad = Math.max(box.maxX - box.minX, box.maxY - box.minY) * 0.6 + 1;
     this.setFollow(false);
-    this.autoFit = false;
+    this.userAutoFit(false);
     this.viewer.camera.fit({ minX: box.minX - pad, minY: box.minY - pad, maxX: box.maxX + pad, maxY: box.maxY + pad });
     this.viewer.invalidate();
     this.viewer.onCameraChange?.(this.viewer.camera);
