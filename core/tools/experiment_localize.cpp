@@ -17,12 +17,15 @@ namespace {
 constexpr const char* kUsage =
     "usage: pslam experiment localize [--world FILE.yaml] [--start X,Y,THETA] [--runs N] [--seed S]\n"
     "                                 [--distance M] [--kidnap-after M --kidnap-pose X,Y,THETA]\n"
-    "                                 [--mapping] [--trace OUT.txt] [--json OUT] [--set NAME=VALUE ...]\n"
+    "                                 [--mapping] [--no-look-around] [--trace OUT.txt] [--json OUT]\n"
+    "                                 [--set NAME=VALUE ...]\n"
     "  Drives the simulated robot along planned paths to random goals (default world:\n"
     "  core/worlds/office.yaml) and localizes it on the world's map, once from the start pose given\n"
     "  with 0.2 m / 0.1 rad of spread (tracking) and once with no pose (global localization), for\n"
     "  seeds S, S+1, ... --kidnap-after carries the robot to --kidnap-pose after M metres in the\n"
-    "  tracking run. --mapping also runs the mapping filter over the tracking run's scans for its\n"
+    "  tracking run. Whenever the localizer starts searching for its place (a global start, a\n"
+    "  kidnapping), the robot first turns once in place; --no-look-around drives on instead.\n"
+    "  --mapping also runs the mapping filter over the tracking run's scans for its\n"
     "  CPU time. --trace writes 'distance truth_x truth_y truth_theta x y theta localized particles'\n"
     "  per scan of the last global run. --set tunes a localization option:\n";
 
@@ -59,6 +62,7 @@ int RunLocalizeExperiment(CliArgs& cli) {
     else options.kidnap_pose = *pose;
   }
   const bool mapping = cli.Flag("--mapping");
+  options.look_around = !cli.Flag("--no-look-around");
   const std::optional<std::string> trace = cli.Value("--trace");
   const std::optional<std::string> json_path = cli.Value("--json");
   for (const std::string& assignment : cli.Values("--set")) {

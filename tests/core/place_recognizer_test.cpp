@@ -94,6 +94,62 @@ TEST(PlaceRecognizerTest, RecognizesTheIrregularRoomAtOnce) {
   EXPECT_EQ(places.Search().outcome, PlaceMatch::Outcome::kNone);
 }
 
+// Scans every 0.1 rad of one full turn in place, with exact odometry; the last scan's pose.
+Pose2D TurnInPlace(PlaceRecognizer& places, const World& world, const Pose2D& at, double until = 2.0 * kPi) {
+  std::mt19937_64 rng(7);
+  Pose2D pose = at;
+  for (double a = 0.0; a <= until + 1e-9; a += 0.1) {
+    pose = Pose2D(at.x, at.y, at.theta + a);
+    places.Add(ToScanPoints(SimulateScan(world, pose, LaserOptions{}, rng), ScanPointsOptions{}).hits, pose);
+  }
+  return pose;
+}
+
+TEST(PlaceRecognizerTest, ALookAroundAtTheOfficeCorridorsEndIsUnique) {
+  // The office's start: the west end of its corridor, facing east. The laser's 180 degrees ahead see
+  // a corridor with a door every 6.2 m, which repeats along both wings; behind the robot is the
+  // corridor's end.
+  const OccupancyGrid map = LoadMap(WorldPath("office"));
+  const World world = World::FromGrid(map);
+  const Pose2D start = ReadStartPose(WorldPath("office")).value();
+  PlaceRecognizer places(map, PlaceRecognitionOptions{});
+  TurnInPlace(places, world, start, kPi);
+  EXPECT_FALSE(places.SearchDue()) << "half a turn, no travel: not yet";
+  PlaceRecognizer looked(map, PlaceRecognitionOptions{});
+  const Pose2D end = TurnInPlace(looked, world, start);
+  ASSERT_TRUE(looked.SearchDue()) << "a full turn in place is due for a search";
+  const PlaceMatch match = looked.Search();
+  ASSERT_EQ(match.outcome, PlaceMatch::Outcome::kUnique) << "rival " << match.rival.x << ", " << match.rival.y
+                                                         << " at " << match.rival_score / match.score;
+  EXPECT_LT((match.pose.translation() - start.translation()).norm(), 0.15);
+  EXPECT_LT(std::abs(NormalizeAngle(match.pose.theta - end.theta)), 0.05);
+  EXPECT_FALSE(looked.SearchDue());
+}
+
+TEST(PlaceRecognizerTest, APlacePutsTheRobotInFreeSpace) {
+  // Two rooms with the same walls (4 x 3 m, a pillar off-centre): the first was seen from inside,
+  // the second only from outside, its floor unknown. The walls alone match both equally; only the
+  // first has floor for the robot to stand on.
+  OccupancyGrid map(0.05);
+  const OccupancyGrid::Cell kOccupied = 3000, kFree = -3000;
+  for (const int ox : {0, 200}) {
+    for (int x = 0; x <= 80; ++x) {
+      for (int y = 0; y <= 60; ++y) {
+        const bool wall = x == 0 || x == 80 || y == 0 || y == 60 || (x >= 20 && x <= 24 && y >= 38 && y <= 42);
+        if (wall) map.MutableAt(ox + x, y) = kOccupied;
+        else if (ox == 0) map.MutableAt(ox + x, y) = kFree;
+      }
+    }
+  }
+  const World world = World::FromGrid(map);
+  PlaceRecognizer places(map, PlaceRecognitionOptions{});
+  const Pose2D at(2.5, 1.2, 0.3);
+  TurnInPlace(places, world, at);
+  const PlaceMatch match = places.Search();
+  ASSERT_EQ(match.outcome, PlaceMatch::Outcome::kUnique) << "rival " << match.rival.x << ", " << match.rival.y;
+  EXPECT_LT((match.pose.translation() - at.translation()).norm(), 0.15);
+}
+
 TEST(PlaceRecognizerTest, LocalizerNeverClaimsATwinOfTheMaze) {
   const OccupancyGrid map = LoadMap(WorldPath("maze"));
   const World world = World::FromGrid(map);

@@ -3,6 +3,7 @@
 #include <time.h>
 
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 #include "pslam/common/random.hpp"
@@ -56,6 +57,8 @@ LocalizationTourResult RunLocalizationTour(const World& world, const OccupancyGr
   const PlanningGrid grid(world.ToGrid(), PlannerOptions{});
   PathFollower follower;
   bool need_route = true, kidnapped = false;
+  bool searching = false;
+  double turn_left = 0.0;  // rad still to turn in place, looking around
   std::vector<LaserScan> scans;
   LocalizationTourResult result;
   Pose2D last_truth = start;
@@ -66,15 +69,21 @@ LocalizationTourResult RunLocalizationTour(const World& world, const OccupancyGr
       last_truth = o.kidnap_pose;
       kidnapped = need_route = true;
     }
-    if (need_route) {
-      follower.SetPath(RandomRoute(grid, sim.true_pose().translation(), rng));
-      need_route = false;
+    const double heading_before = sim.true_pose().theta;
+    if (turn_left > 0.0) {
+      sim.SetCommand({0.0, o.look_around_rate});
+    } else {
+      if (need_route) {
+        follower.SetPath(RandomRoute(grid, sim.true_pose().translation(), rng));
+        need_route = false;
+      }
+      const FollowerOutput drive = follower.Update(sim.true_pose());
+      need_route = drive.goal_reached;
+      sim.SetCommand({drive.command.linear, drive.command.angular});
     }
-    const FollowerOutput drive = follower.Update(sim.true_pose());
-    need_route = drive.goal_reached;
-    sim.SetCommand({drive.command.linear, drive.command.angular});
     const StepResult step = sim.Step(0.1);
     if (step.collided) need_route = true;
+    if (turn_left > 0.0) turn_left -= std::abs(NormalizeAngle(sim.true_pose().theta - heading_before));
     for (const SimulatorEvent& event : step.events) {
       const auto* scan = std::get_if<LaserScan>(&event.data);
       if (!scan) continue;
@@ -83,6 +92,8 @@ LocalizationTourResult RunLocalizationTour(const World& world, const OccupancyGr
       const double before = CpuSeconds(CLOCK_THREAD_CPUTIME_ID);
       const MclUpdate update = mcl.AddScan(*scan);
       cpu += CpuSeconds(CLOCK_THREAD_CPUTIME_ID) - before;
+      if (o.look_around && update.searching && !searching) turn_left = 2.0 * std::numbers::pi;
+      searching = update.searching;
       result.samples.push_back({event.time, result.distance, event.true_pose, update.estimate, update.localized,
                                 update.particles});
       if (o.measure_mapping) scans.push_back(*scan);

@@ -31,6 +31,11 @@ struct LocalizationTourOptions {
   // Kidnapping: after this many metres the robot is carried to kidnap_pose (0: never).
   double kidnap_after = 0.0;
   Pose2D kidnap_pose;
+  // Active localization: whenever the localizer starts searching for its place (a global start, a
+  // kidnapping), the robot first turns once in place, so the search sees all around it rather
+  // than the 180 degrees ahead.
+  bool look_around = true;
+  double look_around_rate = 0.5;     // rad/s
   bool measure_mapping = false;      // also run the mapping filter over the same scans, for its CPU time
   RbpfOptions mapping;
   SimulatorOptions sim;

@@ -42,6 +42,8 @@ const OptionTable<MclOptions>& Setters() {
       {"place.min_score", Option(&MclOptions::place, &PlaceRecognitionOptions::min_score)},
       {"place.ambiguity_ratio", Option(&MclOptions::place, &PlaceRecognitionOptions::ambiguity_ratio)},
       {"place.ambiguity_distance", Option(&MclOptions::place, &PlaceRecognitionOptions::ambiguity_distance)},
+      {"place.ambiguity_ratio_in_place", Option(&MclOptions::place, &PlaceRecognitionOptions::ambiguity_ratio_in_place)},
+      {"place.in_place_travel", Option(&MclOptions::place, &PlaceRecognitionOptions::in_place_travel)},
       {"motion.rotation_per_rotation", Option(&MclOptions::motion, &MotionNoise::rotation_per_rotation)},
       {"motion.rotation_per_translation", Option(&MclOptions::motion, &MotionNoise::rotation_per_translation)},
       {"motion.translation_per_translation", Option(&MclOptions::motion, &MotionNoise::translation_per_translation)},
@@ -98,6 +100,8 @@ std::string ValidateMclOptions(const MclOptions& o) {
   if (!(p.first_search_after >= 0.0) || !(p.search_every >= 0.5)) return "need place.first_search_after >= 0 and place.search_every >= 0.5 m";
   if (!(p.min_score > 0.0 && p.min_score < 1.0) || !(p.ambiguity_ratio > 0.0 && p.ambiguity_ratio <= 1.0) || !(p.ambiguity_distance > 0.0))
     return "need 0 < place.min_score < 1, 0 < place.ambiguity_ratio <= 1 and place.ambiguity_distance > 0";
+  if (!(p.ambiguity_ratio_in_place > 0.0 && p.ambiguity_ratio_in_place <= 1.0) || !(p.in_place_travel >= 0.0))
+    return "need 0 < place.ambiguity_ratio_in_place <= 1 and place.in_place_travel >= 0";
   return "";
 }
 

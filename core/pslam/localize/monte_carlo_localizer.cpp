@@ -14,9 +14,6 @@
 namespace pslam {
 namespace {
 
-// A loaded map's free cells read 0.12, a built map's well under 0.5; a cell hardly ever seen stays
-// near 0.5 and is no place to put the robot.
-constexpr float kFreeProbability = 0.25f;
 
 // Separate random streams per purpose, all derived from (seed, step, index).
 enum Stream : std::uint64_t { kStart = 1, kMotion = 2, kResample = 3, kInjection = 4 };
@@ -55,7 +52,7 @@ MonteCarloLocalizer::MonteCarloLocalizer(const OccupancyGrid& map, const MclOpti
   for (int y = known.min.y(); y <= known.max.y(); ++y) {
     for (int x = known.min.x(); x <= known.max.x(); ++x) {
       const OccupancyGrid::Cell c = map.At(x, y);
-      if (c != OccupancyGrid::kUnknown && CellProbability(c) < kFreeProbability) free_cells_.emplace_back(x, y);
+      if (c != OccupancyGrid::kUnknown && CellProbability(c) < kFreeCellProbability) free_cells_.emplace_back(x, y);
     }
   }
   if (free_cells_.empty()) throw std::invalid_argument("the map has no free cell to localize in");

@@ -15,6 +15,9 @@ namespace {
 constexpr double kMinStep = 0.1;       // m
 constexpr double kMinTurn = 0.1;       // rad
 constexpr std::size_t kMaxScans = 400;
+// Turning nearly all the way round in place shows the robot's whole surroundings, which tells a
+// place apart as well as metres of travel: a search is due then too.
+constexpr double kSearchEveryTurn = 6.0;  // rad
 
 double AngleBetween(double a, double b) { return std::abs(NormalizeAngle(a - b)); }
 
@@ -44,6 +47,20 @@ PlaceRecognizer::PlaceRecognizer(const OccupancyGrid& map, const PlaceRecognitio
     : options_(options), stack_(Coarsen(map, options.search_resolution), options.search_depth) {
   const CellBox box = map.KnownBounds();
   const double res = map.resolution();
+  const double coarse = stack_.resolution();
+  const auto coarse_cell = [&](int x, int y) {
+    return Eigen::Vector2i(static_cast<int>(std::floor((x + 0.5) * res / coarse)), static_cast<int>(std::floor((y + 0.5) * res / coarse)));
+  };
+  free_box_ = CellBox{coarse_cell(box.min.x(), box.min.y()), coarse_cell(box.max.x(), box.max.y())};
+  free_.assign(static_cast<std::size_t>(free_box_.width()) * static_cast<std::size_t>(free_box_.height()), 0);
+  for (int y = box.min.y(); y <= box.max.y(); ++y) {
+    for (int x = box.min.x(); x <= box.max.x(); ++x) {
+      const OccupancyGrid::Cell c = map.At(x, y);
+      if (c == OccupancyGrid::kUnknown || CellProbability(c) >= kFreeCellProbability) continue;
+      const Eigen::Vector2i cell = coarse_cell(x, y) - free_box_.min;
+      free_[static_cast<std::size_t>(cell.y()) * free_box_.width() + cell.x()] = 1;
+    }
+  }
   const Eigen::Vector2d low = box.min.cast<double>() * res, high = (box.max.cast<double>() + Eigen::Vector2d::Ones()) * res;
   guess_ = Pose2D((low.x() + high.x()) / 2.0, (low.y() + high.y()) / 2.0, 0.0);
   window_ = (high - low).maxCoeff() / 2.0 + res;
@@ -52,7 +69,9 @@ PlaceRecognizer::PlaceRecognizer(const OccupancyGrid& map, const PlaceRecognitio
 void PlaceRecognizer::Reset() {
   scans_.clear();
   travelled_ = 0.0;
+  turned_ = 0.0;
   searched_at_ = -1.0;
+  searched_turn_ = 0.0;
 }
 
 void PlaceRecognizer::Add(const std::vector<Eigen::Vector2f>& hits, const Pose2D& odometry) {
@@ -61,6 +80,7 @@ void PlaceRecognizer::Add(const std::vector<Eigen::Vector2f>& hits, const Pose2D
     const double step = (odometry.translation() - last.translation()).norm();
     if (step < kMinStep && AngleBetween(odometry.theta, last.theta) < kMinTurn) return;
     travelled_ += step;
+    turned_ += AngleBetween(odometry.theta, last.theta);
   }
   scans_.push_back({odometry, travelled_, hits});
   while (scans_.size() > kMaxScans || (scans_.size() > 1 && travelled_ - scans_.front().travelled > options_.cloud_travel)) {
@@ -70,6 +90,7 @@ void PlaceRecognizer::Add(const std::vector<Eigen::Vector2f>& hits, const Pose2D
 
 bool PlaceRecognizer::SearchDue() const {
   if (scans_.empty()) return false;
+  if (turned_ - searched_turn_ >= kSearchEveryTurn) return true;
   if (searched_at_ < 0.0) return travelled_ >= options_.first_search_after;
   return travelled_ - searched_at_ >= options_.search_every;
 }
@@ -85,9 +106,18 @@ std::vector<Eigen::Vector2f> PlaceRecognizer::Cloud() const {
   return SelectEvenly(thinned_cloud.Take(), options_.max_points);
 }
 
+bool PlaceRecognizer::StandsFree(const Pose2D& robot) const {
+  const double fx = std::floor(robot.x / stack_.resolution()), fy = std::floor(robot.y / stack_.resolution());
+  if (!(fx >= free_box_.min.x() && fx <= free_box_.max.x() && fy >= free_box_.min.y() && fy <= free_box_.max.y())) return false;
+  const auto x = static_cast<std::size_t>(static_cast<int>(fx) - free_box_.min.x());
+  const auto y = static_cast<std::size_t>(static_cast<int>(fy) - free_box_.min.y());
+  return free_[y * free_box_.width() + x] != 0;
+}
+
 PlaceMatch PlaceRecognizer::Search() {
   PlaceMatch out;
   searched_at_ = travelled_;
+  searched_turn_ = turned_;
   if (scans_.empty()) return out;
   std::vector<Eigen::Vector2f> cloud = Cloud();
   out.points = static_cast<int>(cloud.size());
@@ -102,18 +132,25 @@ PlaceMatch PlaceRecognizer::Search() {
   const auto robot = [&](const Pose2D& cloud_pose) { return cloud_pose * newest_in_cloud; };
   // Over the whole map from its centre, at every heading.
   BranchAndBoundOptions search{.linear_window = window_, .angular_window = std::numbers::pi, .min_score = options_.min_score};
-  const BranchAndBoundResult best = MatchByBranchAndBound(stack_, cloud, guess_, search);
+  // Only places where the robot stands in free space: a cloud can also fit the outside of a
+  // building, with the robot in its wall.
+  const auto off_free = [&](const Pose2D& cloud_pose) { return !StandsFree(robot(cloud_pose)); };
+  const BranchAndBoundResult best = MatchByBranchAndBound(stack_, cloud, guess_, search, off_free);
   if (!best.found) return out;
   out.pose = robot(best.pose);
   out.score = best.score;
   // The best place elsewhere, searched for only above what would make it a rival.
-  search.min_score = std::max(options_.min_score, options_.ambiguity_ratio * best.score);
-  const auto near_best = [&](const Pose2D& cloud_pose) {
+  const bool in_place = travelled_ - scans_.front().travelled < options_.in_place_travel;
+  const double ambiguity_ratio = in_place ? options_.ambiguity_ratio_in_place : options_.ambiguity_ratio;
+  // A rival needs only to come close to the best, even below min_score: a best place just above
+  // it is otherwise unique merely because its rivals fell just below.
+  search.min_score = ambiguity_ratio * best.score;
+  const auto near_best_or_off_free = [&](const Pose2D& cloud_pose) {
     const Pose2D p = robot(cloud_pose);
-    return (p.translation() - out.pose.translation()).norm() < options_.ambiguity_distance &&
-           AngleBetween(p.theta, out.pose.theta) < options_.ambiguity_angle;
+    return !StandsFree(p) || ((p.translation() - out.pose.translation()).norm() < options_.ambiguity_distance &&
+                              AngleBetween(p.theta, out.pose.theta) < options_.ambiguity_angle);
   };
-  const BranchAndBoundResult rival = MatchByBranchAndBound(stack_, cloud, guess_, search, near_best);
+  const BranchAndBoundResult rival = MatchByBranchAndBound(stack_, cloud, guess_, search, near_best_or_off_free);
   if (rival.found) {
     out.rival = robot(rival.pose);
     out.rival_score = rival.score;

@@ -8,6 +8,7 @@
 // square maze looks the same turned by 90 degrees) the rival never goes away: no sensor can tell
 // those places apart, and the localizer should not claim to.
 #include <Eigen/Core>
+#include <cstdint>
 #include <deque>
 #include <vector>
 
@@ -16,6 +17,10 @@
 #include "pslam/grid/occupancy_grid.hpp"
 
 namespace pslam {
+
+// A known map cell below this occupancy is free space a robot may stand in: a loaded map's free
+// cells read 0.12, a built map's well under 0.5; a cell hardly ever seen stays near 0.5.
+constexpr float kFreeCellProbability = 0.25f;
 
 struct PlaceRecognitionOptions {
   bool enabled = true;
@@ -34,6 +39,12 @@ struct PlaceRecognitionOptions {
   double ambiguity_distance = 1.0;  // m
   double ambiguity_angle = 0.3;     // rad
   double ambiguity_ratio = 0.93;
+  // The same for a cloud taken from one spot, the robot turning in place (under
+  // in_place_travel of travel): it has no odometry drift to allow for, so a smaller margin
+  // tells places apart. At 0.96 a look around at the office's corridor end is unique; after
+  // driving, 0.96 let a drifted cloud match a wrong place there.
+  double ambiguity_ratio_in_place = 0.96;
+  double in_place_travel = 0.5;     // m
 };
 
 struct PlaceMatch {
@@ -41,7 +52,7 @@ struct PlaceMatch {
   Outcome outcome = Outcome::kNone;
   Pose2D pose;                     // the robot's pose in the map at the newest scan
   double score = 0.0;
-  Pose2D rival;                    // the best pose away from 'pose', when one scores above min_score
+  Pose2D rival;                    // the best pose away from 'pose', when one scores within the ambiguity ratio
   double rival_score = 0.0;
   int points = 0;                  // in the searched cloud
 };
@@ -54,7 +65,8 @@ class PlaceRecognizer {
   void Reset();
   // A scan's endpoints in the robot frame, with the robot's odometry pose at that scan.
   void Add(const std::vector<Eigen::Vector2f>& hits, const Pose2D& odometry);
-  // Whether the robot travelled far enough since the start or the last search.
+  // Whether the robot travelled far enough, or turned nearly all the way round, since the start or
+  // the last search.
   bool SearchDue() const;
   // Searches the map for the cloud.
   PlaceMatch Search();
@@ -69,14 +81,20 @@ class PlaceRecognizer {
     std::vector<Eigen::Vector2f> hits;
   };
   std::vector<Eigen::Vector2f> Cloud() const;  // in the frame of the newest scan
+  bool StandsFree(const Pose2D& robot) const;
 
   PlaceRecognitionOptions options_;
   MaxPoolStack stack_;
+  // At the search's resolution, whether a cell holds free space: a place puts the robot there.
+  CellBox free_box_;
+  std::vector<std::uint8_t> free_;
   Pose2D guess_;                   // the map's centre: the search spans the map from it
   double window_ = 0.0;            // m each way
   std::deque<Scan> scans_;
   double travelled_ = 0.0;
+  double turned_ = 0.0;            // rad, summed over the scans since the last Reset
   double searched_at_ = -1.0;      // travel at the last search, < 0 before the first
+  double searched_turn_ = 0.0;     // turning at the last search
 };
 
 }  // namespace pslam
