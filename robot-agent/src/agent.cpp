@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <thread>
 
 #include "common/clock.hpp"
@@ -20,6 +21,7 @@ constexpr double kDrivePeriodSeconds = 0.1;        // the controller runs at the
 constexpr double kSpoolFullReportPeriod = 10.0;
 constexpr double kCloseTimeoutSeconds = 30.0;  // the server drains the filter before it answers
 constexpr double kSameTargetMetres = 0.05;
+constexpr double kLookAroundRate = 0.5;  // rad/s: slow enough for every scan to overlap the last
 constexpr double kFinalAckWaitSeconds = 10.0;  // closing: how long the server may take to acknowledge the rest
 
 ScanMessage ToMessage(const LaserScan& scan) {
@@ -147,6 +149,13 @@ void Agent::DriveTick(double now) {
     if (latest_odometry_) {
       follower_.SetPath(MapPathToOdometry(target->path, target->pose, latest_odometry_->pose));
       path_active_ = true;
+      if (target->turn > 0.0) {
+        // A turn under way is finished first: the path's frame holds whatever the heading.
+        turn_left_ = std::max(turn_left_, target->turn);
+        turn_heading_ = latest_odometry_->pose.theta;
+        PSLAM_LOG(kInfo) << "looking around: turning " << target->turn * 180.0 / std::numbers::pi
+                         << " degrees in place while the server searches the map for the robot's place";
+      }
       // The server re-plans every few seconds and mostly confirms the target: only a change is news.
       const bool same = logged_target_ && std::hypot((*logged_target_)[0] - target->target_x,
                                                      (*logged_target_)[1] - target->target_y) < kSameTargetMetres;
@@ -164,7 +173,13 @@ void Agent::DriveTick(double now) {
     }
   }
   VelocityCommand wanted;
-  if (latest_odometry_ && path_active_) {
+  if (latest_odometry_ && turn_left_ > 0.0) {
+    const double heading = latest_odometry_->pose.theta;
+    turn_left_ -= std::abs(std::remainder(heading - turn_heading_, 2.0 * std::numbers::pi));
+    turn_heading_ = heading;
+    if (turn_left_ > 0.0) wanted = {0.0, kLookAroundRate};
+  }
+  if (latest_odometry_ && turn_left_ <= 0.0 && path_active_) {
     const FollowerOutput out = follower_.Update(latest_odometry_->pose);
     wanted = {out.command.linear, out.command.angular};
     if (out.goal_reached) {

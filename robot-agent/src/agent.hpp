@@ -71,6 +71,10 @@ class Agent {
   ServerLinkOptions link_options_;
   PathFollower follower_;
   bool path_active_ = false;
+  // Turning in place, as a target asked, before the path is followed: radians still to turn and
+  // the heading at the last drive tick.
+  double turn_left_ = 0.0;
+  double turn_heading_ = 0.0;
   std::optional<std::array<double, 2>> logged_target_;  // the target last named in the log
   SafetyMonitor safety_;
   AgentStats stats_;

@@ -141,6 +141,14 @@ TEST(MessagesTest, ParsesServerMessages) {
       R"({"type": "target", "target": {"x": 4.5, "y": 2.0}, "path": [[0.0, 0.0], [2.0, 1.0], [4.5, 2.0]], "pose": {"x": 0.0, "y": 0.0, "theta": 0.0}})"));
   ASSERT_EQ(t.path.size(), 3u);
   EXPECT_EQ(t.path[1].first, 2.0);
+  EXPECT_EQ(t.turn, 0.0);
+  const auto look = std::get<TargetMessage>(ParseServerMessage(
+      R"({"type": "target", "target": {"x": 0, "y": 0}, "path": [], "pose": {"x": 0, "y": 0, "theta": 0}, "turn": 6.28})"));
+  EXPECT_EQ(look.turn, 6.28);
+  for (const char* turn : {"-1", "1e9", "\"round\""}) {
+    const std::string text = std::string(R"({"type": "target", "target": {"x": 0, "y": 0}, "path": [], "turn": )") + turn + "}";
+    EXPECT_TRUE(std::holds_alternative<UnknownMessage>(ParseServerMessage(text))) << text;
+  }
   const auto e = std::get<ErrorMessage>(ParseServerMessage(R"({"type": "error", "code": "overloaded", "message": "slow down"})"));
   EXPECT_EQ(e.code, "overloaded");
   EXPECT_TRUE(std::holds_alternative<UnknownMessage>(ParseServerMessage("{not json")));

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <numbers>
 #include <thread>
 
 #include "agent.hpp"
@@ -118,6 +119,35 @@ TEST_F(SimDriveTest, FollowsTheServersTarget) {
   StopAgent();
   EXPECT_EQ(source_->simulator().collision_count(), 0u);
   EXPECT_LT((source_->simulator().true_pose().translation() - goal).norm(), 0.4);
+}
+
+TEST_F(SimDriveTest, TurnsOnceInPlaceBeforeFollowingThePath) {
+  const ShippedWorld maze = MakeMazeWorld();
+  const double free = FreeAhead(maze);
+  ASSERT_GT(free, 1.5);
+  const Eigen::Vector2d dir(std::cos(maze.start.theta), std::sin(maze.start.theta));
+  const Eigen::Vector2d goal = maze.start.translation() + std::min(free - 0.8, 2.0) * dir;
+  StartAgent(4.0);
+  nlohmann::json look = Target(maze.start, goal);
+  look["turn"] = 2.0 * std::numbers::pi;
+  server_.SendToAll(look);
+  ASSERT_TRUE(WaitFor(
+      [&] {
+        const auto odom = Odometry(server_);
+        return !odom.empty() && std::hypot(odom.back().x - goal.x(), odom.back().y - goal.y()) < 0.25;
+      },
+      40.0));
+  StopAgent();
+  // All the turning happens before the robot leaves its place, and it is one full turn.
+  double turned_in_place = 0.0;
+  const auto odom = Odometry(server_);
+  for (std::size_t i = 1; i < odom.size(); ++i) {
+    if (std::hypot(odom[i].x - odom.front().x, odom[i].y - odom.front().y) > 0.05) break;
+    turned_in_place += std::abs(std::remainder(odom[i].theta - odom[i - 1].theta, 2.0 * std::numbers::pi));
+  }
+  EXPECT_GT(turned_in_place, 2.0 * std::numbers::pi - 0.1);
+  EXPECT_LT(turned_in_place, 2.0 * std::numbers::pi + 0.5);
+  EXPECT_EQ(source_->simulator().collision_count(), 0u);
 }
 
 TEST_F(SimDriveTest, StopsBeforeAnObstacleOnThePath) {

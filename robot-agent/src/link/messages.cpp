@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 #include <nlohmann/json.hpp>
 
 namespace pslam::agent {
@@ -17,6 +18,8 @@ constexpr std::uint8_t kScanKind = 'S';
 constexpr std::size_t kScanHeader = 1 + 8 + 24 + 4;  // kind, t, odom, n
 constexpr std::size_t kOdomBytes = 1 + 6 * 8;
 constexpr char kBinaryMagic[4] = {'P', 'S', 'C', '1'};
+// A target's turn in place: two full turns at most (a garbled value must not spin the robot for good).
+constexpr double kMaxTurnRadians = 4.0 * std::numbers::pi;
 
 template <typename T>
 void Put(std::vector<std::uint8_t>& out, T value) {
@@ -172,6 +175,10 @@ ServerMessage ParseServerMessage(std::string_view text) {
       if (j.contains("pose")) {
         const auto& p = j.at("pose");
         t.pose = Pose2D(p.at("x").get<double>(), p.at("y").get<double>(), p.at("theta").get<double>());
+      }
+      t.turn = j.value("turn", 0.0);
+      if (!(t.turn >= 0.0 && t.turn <= kMaxTurnRadians)) {
+        return UnknownMessage{"target turn must be 0 to " + std::to_string(kMaxTurnRadians) + " rad"};
       }
       return t;
     }

@@ -63,6 +63,9 @@ struct TargetMessage {
   double target_x = 0.0, target_y = 0.0;
   std::vector<std::pair<double, double>> path;  // map frame
   Pose2D pose;                                  // robot in the map frame when planned
+  // Radians to turn in place before following the path: the server asks the robot to look all
+  // around while it searches the map for the robot's place.
+  double turn = 0.0;
 };
 struct ErrorMessage {
   std::string code;

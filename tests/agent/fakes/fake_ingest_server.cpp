@@ -176,13 +176,14 @@ class FakeIngestServer::Impl {
             else if (!r.is_number()) throw std::runtime_error("ranges must be numbers or null");
           }
           m.ranges = j.at("ranges").size();
-          j.at("odom").at("theta").get<double>();
           m.x = j.at("odom").at("x").get<double>();
           m.y = j.at("odom").at("y").get<double>();
+          m.theta = j.at("odom").at("theta").get<double>();
         } else if (m.type == "odom") {
           for (const char* k : {"x", "y", "theta", "v", "w"}) j.at(k).get<double>();
           m.x = j.at("x").get<double>();
           m.y = j.at("y").get<double>();
+          m.theta = j.at("theta").get<double>();
           m.v = j.at("v").get<double>();
         } else {
           throw std::runtime_error("unknown type " + m.type);
@@ -195,6 +196,7 @@ class FakeIngestServer::Impl {
         std::memcpy(&n, data.data() + 44, 4);
         std::memcpy(&m.x, data.data() + 20, 8);
         std::memcpy(&m.y, data.data() + 28, 8);
+        std::memcpy(&m.theta, data.data() + 36, 8);
         if (data.size() != 48 + 4ull * n) throw std::runtime_error("binary scan size does not match n");
         m.type = "scan";
         m.ranges = n;

@@ -23,7 +23,7 @@ struct StoredMessage {
   std::size_t ranges = 0;
   std::size_t null_ranges = 0;
   bool binary = false;
-  double x = 0.0, y = 0.0, v = 0.0;  // odometry (odom: pose and speed; scan: the interpolated pose)
+  double x = 0.0, y = 0.0, theta = 0.0, v = 0.0;  // odometry (odom: pose and speed; scan: the interpolated pose)
 };
 
 struct FakeSession {
