@@ -215,6 +215,13 @@ TEST(LocalizeTest, GlobalLocalizationWithoutAPose) {
   const auto stats = Get(port, "/api/sessions/" + id + "/stats").Json()["filter"];
   EXPECT_TRUE(stats["localization"]["localized"].get<bool>()) << stats;
   EXPECT_EQ(stats["localization"]["place"], "") << stats;  // recognized: tracking
+  // While it searched, the robot was asked once to turn all the way round in place.
+  std::vector<double> turns;
+  for (const auto& m : agent.skipped) {
+    if (m.value("type", "") == "target" && m.contains("turn")) turns.push_back(m["turn"].get<double>());
+  }
+  ASSERT_EQ(turns.size(), 1u);
+  EXPECT_NEAR(turns[0], 2.0 * std::numbers::pi, 1e-9);
   ASSERT_EQ(Post(port, "/api/sessions/" + id + "/close", "").status, 200);
   const auto poses = Get(port, "/api/sessions/" + id + "/trajectory").Json()["poses"];
   ASSERT_EQ(poses.size(), static_cast<std::size_t>(kScans));

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -199,6 +200,7 @@ PipelineStep SlamPipeline::Add(const InputRecord& input) {
       if (planner_) {
         WatchProgress(input.t, step);
         step.target = TakePlan();
+        LookAroundWhileSearching(step);
         MaybeRequestPlan(input.t);
       }
       return step;
@@ -229,6 +231,23 @@ PipelineStep SlamPipeline::Add(const InputRecord& input) {
     MaybeRequestPlan(input.t);
   }
   return step;
+}
+
+void SlamPipeline::LookAroundWhileSearching(PipelineStep& step) {
+  // A robot that sees 180 degrees ahead misses what is behind it, often what tells its place from
+  // a look-alike one (a corridor's end): turning once in place lets the search see all around.
+  const bool searching = !localization_->status().place.empty();
+  if (!searching) {
+    looked_around_ = false;  // the next search (after a kidnapping) looks around again
+    return;
+  }
+  if (looked_around_) return;
+  looked_around_ = true;
+  const Pose2D pose = CurrentPose();
+  ExplorationTarget look = step.target ? *step.target : target_.value_or(ExplorationTarget{pose.x, pose.y, {}, pose.x, pose.y, pose.theta});
+  look.turn = 2.0 * std::numbers::pi;
+  target_ = look;
+  step.target = look;
 }
 
 void SlamPipeline::MaybeRequestPlan(double time) {

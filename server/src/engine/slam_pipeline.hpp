@@ -130,6 +130,8 @@ class SlamPipeline {
   void MaybeRequestPlan(double time);
   void WatchProgress(double time, PipelineStep& step);
   void UpdateExploration(const PlanResult& plan);
+  // Localize mode: once per search for the robot's place, the robot turns all the way round.
+  void LookAroundWhileSearching(PipelineStep& step);
   // Extend mode, once localized at 'pose': mapping takes over from the localizer.
   void StartMapping(const Pose2D& pose);
 
@@ -146,6 +148,7 @@ class SlamPipeline {
   std::optional<ExplorationTarget> target_;
   double last_plan_time_ = -1e300;
   bool exploration_done_ = false;
+  bool looked_around_ = false;                    // during this search for the robot's place
   ExplorationStatus exploration_;
   bool exploration_changed_ = false;
   bool verify_predicted_ = true;

@@ -48,6 +48,7 @@ struct ExplorationTarget {
   double x = 0.0, y = 0.0;
   std::vector<std::array<double, 2>> path;
   double pose_x = 0.0, pose_y = 0.0, pose_theta = 0.0;
+  double turn = 0.0;  // radians to turn in place before the path: looking around (localize mode)
 };
 
 }  // namespace pslam::server

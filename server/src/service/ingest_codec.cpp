@@ -239,11 +239,12 @@ std::string ErrorMessage(const std::string& code, const std::string& message) {
 std::string TargetMessage(const ExplorationTarget& t) {
   nlohmann::json path = nlohmann::json::array();
   for (const auto& p : t.path) path.push_back({p[0], p[1]});
-  return nlohmann::json{{"type", "target"},
-                        {"target", {{"x", t.x}, {"y", t.y}}},
-                        {"path", path},
-                        {"pose", {{"x", t.pose_x}, {"y", t.pose_y}, {"theta", t.pose_theta}}}}
-      .dump();
+  nlohmann::json message{{"type", "target"},
+                         {"target", {{"x", t.x}, {"y", t.y}}},
+                         {"path", path},
+                         {"pose", {{"x", t.pose_x}, {"y", t.pose_y}, {"theta", t.pose_theta}}}};
+  if (t.turn > 0.0) message["turn"] = t.turn;
+  return message.dump();
 }
 
 }  // namespace pslam::server
