@@ -49,6 +49,18 @@ std::vector<StoredMessage> Odometry(FakeIngestServer& server) {
   return out;
 }
 
+// A goal up to 2 m straight ahead of the maze's start, 0.8 m short of what is in front.
+Eigen::Vector2d GoalAhead(const ShippedWorld& maze) {
+  const Eigen::Vector2d dir(std::cos(maze.start.theta), std::sin(maze.start.theta));
+  return maze.start.translation() + std::min(FreeAhead(maze) - 0.8, 2.0) * dir;
+}
+
+// Whether the robot's last odometry is within 0.25 m of 'goal'.
+bool OdometryReached(FakeIngestServer& server, const Eigen::Vector2d& goal) {
+  const auto odom = Odometry(server);
+  return !odom.empty() && std::hypot(odom.back().x - goal.x(), odom.back().y - goal.y()) < 0.25;
+}
+
 // A 6 m x 3 m walled room, the robot at (1, 1.5) facing the far wall 5 m away: a short run into an
 // obstacle. Returns the YAML path.
 std::string WriteRoomWorld(const TempDir& dir) {
@@ -104,18 +116,11 @@ class SimDriveTest : public ::testing::Test {
 
 TEST_F(SimDriveTest, FollowsTheServersTarget) {
   const ShippedWorld maze = MakeMazeWorld();
-  const double free = FreeAhead(maze);
-  ASSERT_GT(free, 1.5);
-  const Eigen::Vector2d dir(std::cos(maze.start.theta), std::sin(maze.start.theta));
-  const Eigen::Vector2d goal = maze.start.translation() + std::min(free - 0.8, 2.0) * dir;
+  ASSERT_GT(FreeAhead(maze), 1.5);
+  const Eigen::Vector2d goal = GoalAhead(maze);
   StartAgent(4.0);
   server_.SendToAll(Target(maze.start, goal));
-  ASSERT_TRUE(WaitFor(
-      [&] {
-        const auto odom = Odometry(server_);
-        return !odom.empty() && std::hypot(odom.back().x - goal.x(), odom.back().y - goal.y()) < 0.25;
-      },
-      20.0));
+  ASSERT_TRUE(WaitFor([&] { return OdometryReached(server_, goal); }, 20.0));
   StopAgent();
   EXPECT_EQ(source_->simulator().collision_count(), 0u);
   EXPECT_LT((source_->simulator().true_pose().translation() - goal).norm(), 0.4);
@@ -123,20 +128,13 @@ TEST_F(SimDriveTest, FollowsTheServersTarget) {
 
 TEST_F(SimDriveTest, TurnsOnceInPlaceBeforeFollowingThePath) {
   const ShippedWorld maze = MakeMazeWorld();
-  const double free = FreeAhead(maze);
-  ASSERT_GT(free, 1.5);
-  const Eigen::Vector2d dir(std::cos(maze.start.theta), std::sin(maze.start.theta));
-  const Eigen::Vector2d goal = maze.start.translation() + std::min(free - 0.8, 2.0) * dir;
+  ASSERT_GT(FreeAhead(maze), 1.5);
+  const Eigen::Vector2d goal = GoalAhead(maze);
   StartAgent(4.0);
   nlohmann::json look = Target(maze.start, goal);
   look["turn"] = 2.0 * std::numbers::pi;
   server_.SendToAll(look);
-  ASSERT_TRUE(WaitFor(
-      [&] {
-        const auto odom = Odometry(server_);
-        return !odom.empty() && std::hypot(odom.back().x - goal.x(), odom.back().y - goal.y()) < 0.25;
-      },
-      40.0));
+  ASSERT_TRUE(WaitFor([&] { return OdometryReached(server_, goal); }, 40.0));
   StopAgent();
   // All the turning happens before the robot leaves its place, and it is one full turn.
   double turned_in_place = 0.0;
