@@ -16,7 +16,7 @@ while (( $# )); do
   esac
 done
 (( ${#targets[@]} )) || targets=(fuzz_carmen_reader fuzz_ingest_text fuzz_ingest_binary fuzz_settings fuzz_p2os fuzz_sick
-                                 fuzz_query fuzz_live_envelope)
+                                 fuzz_query fuzz_live_envelope fuzz_agent_messages)
 
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
