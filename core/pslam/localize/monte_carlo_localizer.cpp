@@ -14,7 +14,6 @@
 namespace pslam {
 namespace {
 
-
 // Separate random streams per purpose, all derived from (seed, step, index).
 enum Stream : std::uint64_t { kStart = 1, kMotion = 2, kResample = 3, kInjection = 4 };
 
