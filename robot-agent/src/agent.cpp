@@ -21,7 +21,6 @@ constexpr double kDrivePeriodSeconds = 0.1;        // the controller runs at the
 constexpr double kSpoolFullReportPeriod = 10.0;
 constexpr double kCloseTimeoutSeconds = 30.0;  // the server drains the filter before it answers
 constexpr double kSameTargetMetres = 0.05;
-constexpr double kLookAroundRate = 0.5;  // rad/s: slow enough for every scan to overlap the last
 constexpr double kFinalAckWaitSeconds = 10.0;  // closing: how long the server may take to acknowledge the rest
 
 ScanMessage ToMessage(const LaserScan& scan) {
@@ -150,9 +149,8 @@ void Agent::DriveTick(double now) {
       follower_.SetPath(MapPathToOdometry(target->path, target->pose, latest_odometry_->pose));
       path_active_ = true;
       if (target->turn > 0.0) {
-        // A turn under way is finished first: the path's frame holds whatever the heading.
-        turn_left_ = std::max(turn_left_, target->turn);
-        turn_heading_ = latest_odometry_->pose.theta;
+        // The path's frame holds whatever the heading: it is followed once the turn is done.
+        look_around_.Start(target->turn, latest_odometry_->pose.theta);
         PSLAM_LOG(kInfo) << "looking around: turning " << target->turn * 180.0 / std::numbers::pi
                          << " degrees in place while the server searches the map for the robot's place";
       }
@@ -173,13 +171,8 @@ void Agent::DriveTick(double now) {
     }
   }
   VelocityCommand wanted;
-  if (latest_odometry_ && turn_left_ > 0.0) {
-    const double heading = latest_odometry_->pose.theta;
-    turn_left_ -= std::abs(std::remainder(heading - turn_heading_, 2.0 * std::numbers::pi));
-    turn_heading_ = heading;
-    if (turn_left_ > 0.0) wanted = {0.0, kLookAroundRate};
-  }
-  if (latest_odometry_ && turn_left_ <= 0.0 && path_active_) {
+  if (latest_odometry_) wanted.w = look_around_.Update(latest_odometry_->pose.theta);
+  if (latest_odometry_ && !look_around_.active() && path_active_) {
     const FollowerOutput out = follower_.Update(latest_odometry_->pose);
     wanted = {out.command.linear, out.command.angular};
     if (out.goal_reached) {

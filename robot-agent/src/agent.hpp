@@ -17,6 +17,7 @@
 #include "link/messages.hpp"
 #include "link/server_link.hpp"
 #include "link/spool.hpp"
+#include "pslam/explore/look_around.hpp"
 #include "pslam/explore/path_follower.hpp"
 #include "sources/scan_source.hpp"
 
@@ -71,10 +72,7 @@ class Agent {
   ServerLinkOptions link_options_;
   PathFollower follower_;
   bool path_active_ = false;
-  // Turning in place, as a target asked, before the path is followed: radians still to turn and
-  // the heading at the last drive tick.
-  double turn_left_ = 0.0;
-  double turn_heading_ = 0.0;
+  LookAround look_around_;  // a target's turn in place, before its path is followed
   std::optional<std::array<double, 2>> logged_target_;  // the target last named in the log
   SafetyMonitor safety_;
   AgentStats stats_;

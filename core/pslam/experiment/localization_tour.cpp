@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "pslam/common/random.hpp"
+#include "pslam/explore/look_around.hpp"
 #include "pslam/explore/path_follower.hpp"
 #include "pslam/explore/path_planner.hpp"
 #include "pslam/explore/planning_grid.hpp"
@@ -58,7 +59,7 @@ LocalizationTourResult RunLocalizationTour(const World& world, const OccupancyGr
   PathFollower follower;
   bool need_route = true, kidnapped = false;
   bool searching = false;
-  double turn_left = 0.0;  // rad still to turn in place, looking around
+  LookAround look_around(o.look_around_rate);
   std::vector<LaserScan> scans;
   LocalizationTourResult result;
   Pose2D last_truth = start;
@@ -69,9 +70,9 @@ LocalizationTourResult RunLocalizationTour(const World& world, const OccupancyGr
       last_truth = o.kidnap_pose;
       kidnapped = need_route = true;
     }
-    const double heading_before = sim.true_pose().theta;
-    if (turn_left > 0.0) {
-      sim.SetCommand({0.0, o.look_around_rate});
+    const double turn_rate = look_around.Update(sim.true_pose().theta);
+    if (look_around.active()) {
+      sim.SetCommand({0.0, turn_rate});
     } else {
       if (need_route) {
         follower.SetPath(RandomRoute(grid, sim.true_pose().translation(), rng));
@@ -83,7 +84,6 @@ LocalizationTourResult RunLocalizationTour(const World& world, const OccupancyGr
     }
     const StepResult step = sim.Step(0.1);
     if (step.collided) need_route = true;
-    if (turn_left > 0.0) turn_left -= std::abs(NormalizeAngle(sim.true_pose().theta - heading_before));
     for (const SimulatorEvent& event : step.events) {
       const auto* scan = std::get_if<LaserScan>(&event.data);
       if (!scan) continue;
@@ -92,7 +92,7 @@ LocalizationTourResult RunLocalizationTour(const World& world, const OccupancyGr
       const double before = CpuSeconds(CLOCK_THREAD_CPUTIME_ID);
       const MclUpdate update = mcl.AddScan(*scan);
       cpu += CpuSeconds(CLOCK_THREAD_CPUTIME_ID) - before;
-      if (o.look_around && update.searching && !searching) turn_left = 2.0 * std::numbers::pi;
+      if (o.look_around && update.searching && !searching) look_around.Start(2.0 * std::numbers::pi, sim.true_pose().theta);
       searching = update.searching;
       result.samples.push_back({event.time, result.distance, event.true_pose, update.estimate, update.localized,
                                 update.particles});

@@ -198,10 +198,12 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
     have_odometry_ = true;
   }
   const Pose2D delta = Between(update_odometry_, odometry);
+  // The scan's endpoints in the robot frame, for weighing, refining and the place search alike.
+  const std::vector<Eigen::Vector2f> hits = ToScanPoints(scan, options_.points).hits;
   if (!force_update_ && !MovedEnough(delta, options_)) {
     last_.estimate = last_.cluster.mean * delta;  // between updates, odometry carries the estimate
-    RefineEstimate(scan);
-    SearchPlace(scan, odometry);
+    RefineEstimate(hits);
+    SearchPlace(hits, odometry);
     return last_;
   }
   ++step_;
@@ -211,7 +213,7 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
   }
   update_odometry_ = odometry;
   force_update_ = false;
-  const std::vector<Eigen::Vector2f> points = SelectEvenly(ToScanPoints(scan, options_.points).hits, options_.likelihood.max_beams);
+  const std::vector<Eigen::Vector2f> points = SelectEvenly(hits, options_.likelihood.max_beams);
   if (!points.empty() && !last_.localized && options_.unlocalized_refine_shift > 0.0) {
     // While not localized, each particle first moves to the best-fitting pose near it, so that a
     // place's weight says how well the place explains the scan, not how close its nearest
@@ -239,14 +241,13 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
   }
   ++stats_.updates;
   Summarize();
-  RefineEstimate(scan);
-  SearchPlace(scan, odometry);
+  RefineEstimate(hits);
+  SearchPlace(hits, odometry);
   return last_;
 }
 
-void MonteCarloLocalizer::SearchPlace(const LaserScan& scan, const Pose2D& odometry) {
+void MonteCarloLocalizer::SearchPlace(const std::vector<Eigen::Vector2f>& hits, const Pose2D& odometry) {
   if (!last_.searching) return;
-  const std::vector<Eigen::Vector2f> hits = ToScanPoints(scan, options_.points).hits;
   places_->Add(hits, odometry);
   if (places_->SearchDue()) last_.place = places_->Search();
   if (last_.place.outcome == PlaceMatch::Outcome::kUnique) {
@@ -266,9 +267,9 @@ void MonteCarloLocalizer::SearchPlace(const LaserScan& scan, const Pose2D& odome
   if (last_.place.outcome != PlaceMatch::Outcome::kNone || !places_->searched()) last_.localized = false;
 }
 
-void MonteCarloLocalizer::RefineEstimate(const LaserScan& scan) {
+void MonteCarloLocalizer::RefineEstimate(const std::vector<Eigen::Vector2f>& hits) {
   if (!options_.refine || !last_.localized) return;
-  const std::vector<Eigen::Vector2f> points = SelectEvenly(ToScanPoints(scan, options_.points).hits, options_.refine_max_points);
+  const std::vector<Eigen::Vector2f> points = SelectEvenly(hits, options_.refine_max_points);
   if (!points.empty()) last_.estimate = field_.Refine(points, last_.estimate, options_.refine_max_shift, options_.refine_max_turn);
 }
 

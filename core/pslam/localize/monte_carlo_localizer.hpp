@@ -79,8 +79,9 @@ class MonteCarloLocalizer {
   void Weigh(const std::vector<Eigen::Vector2f>& points);
   void Resample();
   void Summarize();
-  void RefineEstimate(const LaserScan& scan);
-  void SearchPlace(const LaserScan& scan, const Pose2D& odometry);
+  // Both take the scan's endpoints in the robot frame.
+  void RefineEstimate(const std::vector<Eigen::Vector2f>& hits);
+  void SearchPlace(const std::vector<Eigen::Vector2f>& hits, const Pose2D& odometry);
 
   MclOptions options_;
   LikelihoodField field_;

@@ -21,9 +21,11 @@ constexpr double kSearchEveryTurn = 6.0;  // rad
 
 double AngleBetween(double a, double b) { return std::abs(NormalizeAngle(a - b)); }
 
-// The map at a coarser resolution: each cell the most occupied of the known cells it covers. The
-// search over a whole building at every heading costs with the cube of the inverse resolution.
-OccupancyGrid Coarsen(const OccupancyGrid& map, double resolution) {
+// The map at a coarser resolution: each cell the most occupied (or the most free) of the known
+// cells it covers. The search over a whole building at every heading costs with the cube of the
+// inverse resolution.
+enum class Pool { kMostOccupied, kMostFree };
+OccupancyGrid Coarsen(const OccupancyGrid& map, double resolution, Pool pool) {
   const int factor = std::max(1, static_cast<int>(std::lround(resolution / map.resolution())));
   if (factor == 1) return map;
   OccupancyGrid coarse(map.resolution() * factor);
@@ -35,7 +37,7 @@ OccupancyGrid Coarsen(const OccupancyGrid& map, double resolution) {
       // Floor division: cell indices are negative below the origin.
       const auto down = [factor](int v) { return v >= 0 ? v / factor : -((-v + factor - 1) / factor); };
       OccupancyGrid::Cell& out = coarse.MutableAt(down(x), down(y));
-      out = out == OccupancyGrid::kUnknown ? c : std::max(out, c);
+      out = out == OccupancyGrid::kUnknown ? c : pool == Pool::kMostOccupied ? std::max(out, c) : std::min(out, c);
     }
   }
   return coarse;
@@ -44,23 +46,11 @@ OccupancyGrid Coarsen(const OccupancyGrid& map, double resolution) {
 }  // namespace
 
 PlaceRecognizer::PlaceRecognizer(const OccupancyGrid& map, const PlaceRecognitionOptions& options)
-    : options_(options), stack_(Coarsen(map, options.search_resolution), options.search_depth) {
+    : options_(options),
+      stack_(Coarsen(map, options.search_resolution, Pool::kMostOccupied), options.search_depth),
+      floor_(Coarsen(map, options.search_resolution, Pool::kMostFree)) {
   const CellBox box = map.KnownBounds();
   const double res = map.resolution();
-  const double coarse = stack_.resolution();
-  const auto coarse_cell = [&](int x, int y) {
-    return Eigen::Vector2i(static_cast<int>(std::floor((x + 0.5) * res / coarse)), static_cast<int>(std::floor((y + 0.5) * res / coarse)));
-  };
-  free_box_ = CellBox{coarse_cell(box.min.x(), box.min.y()), coarse_cell(box.max.x(), box.max.y())};
-  free_.assign(static_cast<std::size_t>(free_box_.width()) * static_cast<std::size_t>(free_box_.height()), 0);
-  for (int y = box.min.y(); y <= box.max.y(); ++y) {
-    for (int x = box.min.x(); x <= box.max.x(); ++x) {
-      const OccupancyGrid::Cell c = map.At(x, y);
-      if (c == OccupancyGrid::kUnknown || CellProbability(c) >= kFreeCellProbability) continue;
-      const Eigen::Vector2i cell = coarse_cell(x, y) - free_box_.min;
-      free_[static_cast<std::size_t>(cell.y()) * free_box_.width() + cell.x()] = 1;
-    }
-  }
   const Eigen::Vector2d low = box.min.cast<double>() * res, high = (box.max.cast<double>() + Eigen::Vector2d::Ones()) * res;
   guess_ = Pose2D((low.x() + high.x()) / 2.0, (low.y() + high.y()) / 2.0, 0.0);
   window_ = (high - low).maxCoeff() / 2.0 + res;
@@ -107,11 +97,9 @@ std::vector<Eigen::Vector2f> PlaceRecognizer::Cloud() const {
 }
 
 bool PlaceRecognizer::StandsFree(const Pose2D& robot) const {
-  const double fx = std::floor(robot.x / stack_.resolution()), fy = std::floor(robot.y / stack_.resolution());
-  if (!(fx >= free_box_.min.x() && fx <= free_box_.max.x() && fy >= free_box_.min.y() && fy <= free_box_.max.y())) return false;
-  const auto x = static_cast<std::size_t>(static_cast<int>(fx) - free_box_.min.x());
-  const auto y = static_cast<std::size_t>(static_cast<int>(fy) - free_box_.min.y());
-  return free_[y * free_box_.width() + x] != 0;
+  const Eigen::Vector2i cell = floor_.WorldToCell(robot.translation());
+  const OccupancyGrid::Cell c = floor_.At(cell.x(), cell.y());
+  return c != OccupancyGrid::kUnknown && CellProbability(c) < kFreeCellProbability;
 }
 
 PlaceMatch PlaceRecognizer::Search() {

@@ -8,7 +8,6 @@
 // square maze looks the same turned by 90 degrees) the rival never goes away: no sensor can tell
 // those places apart, and the localizer should not claim to.
 #include <Eigen/Core>
-#include <cstdint>
 #include <deque>
 #include <vector>
 
@@ -85,9 +84,8 @@ class PlaceRecognizer {
 
   PlaceRecognitionOptions options_;
   MaxPoolStack stack_;
-  // At the search's resolution, whether a cell holds free space: a place puts the robot there.
-  CellBox free_box_;
-  std::vector<std::uint8_t> free_;
+  // The map at the search's resolution, each cell its freest: a place puts the robot on free floor.
+  OccupancyGrid floor_;
   Pose2D guess_;                   // the map's centre: the search spans the map from it
   double window_ = 0.0;            // m each way
   std::deque<Scan> scans_;
