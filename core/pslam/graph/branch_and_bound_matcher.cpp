@@ -87,9 +87,10 @@ struct RotatedScan {
 
 class Search {
  public:
-  Search(const MaxPoolStack& stack, std::vector<RotatedScan> scans, int window_cells, int min_score,
+  Search(const MaxPoolStack& stack, std::vector<RotatedScan> scans, int window_cells, int min_score, bool first_found,
          const std::function<bool(const Candidate&)>& excluded)
-      : stack_(stack), scans_(std::move(scans)), window_(window_cells), best_score_(min_score - 1), excluded_(excluded) {}
+      : stack_(stack), scans_(std::move(scans)), window_(window_cells), best_score_(min_score - 1),
+        first_found_(first_found), excluded_(excluded) {}
 
   void Run() {
     const int top = stack_.depth();
@@ -116,6 +117,7 @@ class Search {
     std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
     for (const Candidate& c : candidates) {
       if (c.score <= best_score_) return;  // sorted: nothing after this can beat the best either
+      if (found_ && first_found_) return;
       if (h == 0) {
         if (excluded_ && excluded_(c)) continue;
         best_ = c;
@@ -141,6 +143,7 @@ class Search {
   std::vector<RotatedScan> scans_;
   int window_;
   int best_score_;
+  bool first_found_;
   std::function<bool(const Candidate&)> excluded_;
   Candidate best_;
   bool found_ = false;
@@ -179,7 +182,7 @@ BranchAndBoundResult MatchByBranchAndBound(const MaxPoolStack& stack, const std:
   };
   std::function<bool(const Candidate&)> reject;
   if (excluded) reject = [&](const Candidate& c) { return excluded(to_pose(c.rotation, c.dx, c.dy)); };
-  Search search(stack, scans, window_cells, min_score, reject);
+  Search search(stack, scans, window_cells, min_score, options.first_above_min_score, reject);
   search.Run();
   if (!search.found()) return out;
   const Candidate& best = search.best();

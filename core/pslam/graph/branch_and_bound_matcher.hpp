@@ -17,6 +17,9 @@ struct BranchAndBoundOptions {
   double linear_window = 3.0;     // metres each way around the initial guess
   double angular_window = 0.45;   // radians each way
   double min_score = 0.55;        // mean likelihood-field value at the points to accept a pose
+  // Stop at the first pose reaching min_score instead of searching on for the best: enough to
+  // tell whether any pose does (a rival), and far cheaper when one does.
+  bool first_above_min_score = false;
 };
 
 struct BranchAndBoundResult {

@@ -133,6 +133,7 @@ PlaceMatch PlaceRecognizer::Search() {
   // A rival needs only to come close to the best, even below min_score: a best place just above
   // it is otherwise unique merely because its rivals fell just below.
   search.min_score = ambiguity_ratio * best.score;
+  search.first_above_min_score = true;  // any rival makes the place ambiguous
   const auto near_best_or_off_free = [&](const Pose2D& cloud_pose) {
     const Pose2D p = robot(cloud_pose);
     return !StandsFree(p) || ((p.translation() - out.pose.translation()).norm() < options_.ambiguity_distance &&

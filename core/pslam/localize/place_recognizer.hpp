@@ -51,7 +51,7 @@ struct PlaceMatch {
   Outcome outcome = Outcome::kNone;
   Pose2D pose;                     // the robot's pose in the map at the newest scan
   double score = 0.0;
-  Pose2D rival;                    // the best pose away from 'pose', when one scores within the ambiguity ratio
+  Pose2D rival;                    // a pose away from 'pose' scoring within the ambiguity ratio (the first found)
   double rival_score = 0.0;
   int points = 0;                  // in the searched cloud
 };
