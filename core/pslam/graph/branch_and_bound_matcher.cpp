@@ -83,6 +83,9 @@ struct Candidate {
 struct RotatedScan {
   double theta = 0.0;
   std::vector<Eigen::Vector2i> cells;  // points at the guess translation, this rotation
+  // The same points as indices into a level of the stack, and their bounding box in its array.
+  std::vector<int> offsets;
+  int min_x = 0, max_x = 0, min_y = 0, max_y = 0;
 };
 
 class Search {
@@ -90,7 +93,21 @@ class Search {
   Search(const MaxPoolStack& stack, std::vector<RotatedScan> scans, int window_cells, int min_score, bool first_found,
          const std::function<bool(const Candidate&)>& excluded)
       : stack_(stack), scans_(std::move(scans)), window_(window_cells), best_score_(min_score - 1),
-        first_found_(first_found), excluded_(excluded) {}
+        first_found_(first_found), excluded_(excluded) {
+    const Eigen::Vector2i& origin = stack_.origin();
+    for (RotatedScan& s : scans_) {
+      if (s.cells.empty()) continue;
+      s.offsets.reserve(s.cells.size());
+      s.min_x = s.max_x = s.cells.front().x() - origin.x();
+      s.min_y = s.max_y = s.cells.front().y() - origin.y();
+      for (const Eigen::Vector2i& c : s.cells) {
+        const int ix = c.x() - origin.x(), iy = c.y() - origin.y();
+        s.offsets.push_back(iy * stack_.width() + ix);
+        s.min_x = std::min(s.min_x, ix), s.max_x = std::max(s.max_x, ix);
+        s.min_y = std::min(s.min_y, iy), s.max_y = std::max(s.max_y, iy);
+      }
+    }
+  }
 
   void Run() {
     const int top = stack_.depth();
@@ -101,21 +118,30 @@ class Search {
         for (int dx = -window_; dx <= window_; dx += step) roots.push_back({r, dx, dy, Score(top, r, dx, dy)});
       }
     }
-    Descend(top, roots);
+    Descend(top, roots.data(), roots.data() + roots.size());
   }
   bool found() const { return found_; }
   const Candidate& best() const { return best_; }
 
  private:
   int Score(int h, int r, int dx, int dy) const {
+    const RotatedScan& scan = scans_[static_cast<std::size_t>(r)];
     int sum = 0;
-    for (const Eigen::Vector2i& c : scans_[static_cast<std::size_t>(r)].cells) sum += stack_.At(h, c.x() + dx, c.y() + dy);
+    if (scan.min_x + dx >= 0 && scan.max_x + dx < stack_.width() && scan.min_y + dy >= 0 && scan.max_y + dy < stack_.height()) {
+      // Every point inside the arrays (the common case): no bounds to check per point.
+      const std::uint8_t* level = stack_.Level(h);
+      const int shift = dy * stack_.width() + dx;
+      for (const int offset : scan.offsets) sum += level[offset + shift];
+      return sum;
+    }
+    for (const Eigen::Vector2i& c : scan.cells) sum += stack_.At(h, c.x() + dx, c.y() + dy);
     return sum;
   }
 
-  void Descend(int h, std::vector<Candidate>& candidates) {
-    std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
-    for (const Candidate& c : candidates) {
+  void Descend(int h, Candidate* begin, Candidate* end) {
+    std::sort(begin, end, [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+    for (const Candidate* it = begin; it != end; ++it) {
+      const Candidate& c = *it;
       if (c.score <= best_score_) return;  // sorted: nothing after this can beat the best either
       if (found_ && first_found_) return;
       if (h == 0) {
@@ -126,16 +152,16 @@ class Search {
         continue;
       }
       const int half = 1 << (h - 1);
-      std::vector<Candidate> children;
-      children.reserve(4);
+      std::array<Candidate, 4> children;
+      int count = 0;
       for (int oy : {0, half}) {
         for (int ox : {0, half}) {
           const int dx = c.dx + ox, dy = c.dy + oy;
           if (dx > window_ || dy > window_) continue;
-          children.push_back({c.rotation, dx, dy, Score(h - 1, c.rotation, dx, dy)});
+          children[static_cast<std::size_t>(count++)] = {c.rotation, dx, dy, Score(h - 1, c.rotation, dx, dy)};
         }
       }
-      Descend(h - 1, children);
+      Descend(h - 1, children.data(), children.data() + count);
     }
   }
 

@@ -42,6 +42,12 @@ class MaxPoolStack {
     return levels_[static_cast<std::size_t>(h)][static_cast<std::size_t>(iy) * width_ + ix];
   }
   static constexpr std::uint8_t kOutside = 115;  // beyond what the grid saw: neutral, 0.45
+  // Raw access for the search's inner loop: level h, row-major, width() x height(), element (0, 0)
+  // at cell origin().
+  const std::uint8_t* Level(int h) const { return levels_[static_cast<std::size_t>(h)].data(); }
+  const Eigen::Vector2i& origin() const { return origin_; }
+  int width() const { return width_; }
+  int height() const { return height_; }
 
  private:
   double resolution_;
