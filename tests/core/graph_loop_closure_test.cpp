@@ -139,6 +139,74 @@ TEST(BranchAndBoundMatcherTest, FindsAScanFarFromItsGuess) {
   EXPECT_FALSE(other.found);
 }
 
+// The mean level-0 value at the points at 'pose', discretised as the search does: the points turned
+// about 'guess' and floored to cells, then moved by whole cells.
+double FieldScore(const MaxPoolStack& stack, const std::vector<Eigen::Vector2f>& points, const Pose2D& guess, const Pose2D& pose) {
+  const double res = stack.resolution();
+  const Pose2D turned(guess.x, guess.y, pose.theta);
+  const int dx = static_cast<int>(std::lround((pose.x - guess.x) / res)), dy = static_cast<int>(std::lround((pose.y - guess.y) / res));
+  int sum = 0;
+  for (const Eigen::Vector2f& p : points) {
+    const Eigen::Vector2d w = turned * p.cast<double>();
+    sum += stack.At(0, static_cast<int>(std::floor(w.x() / res)) + dx, static_cast<int>(std::floor(w.y() / res)) + dy);
+  }
+  return sum / (255.0 * static_cast<double>(points.size()));
+}
+
+// Scores are summed two ways: with bounds checks when some point of the scan lies past the search's
+// arrays (they reach 2^depth cells below the grid's known cells and two above), without them
+// otherwise. Either way the search is exact and reports the field's own score at its pose.
+TEST(BranchAndBoundMatcherTest, ExactInsideTheGridAndPastItsEdge) {
+  const World world = LoopWorld();
+  std::mt19937_64 rng(5);
+  const Pose2D at(3.0, 13.0, -0.7);
+  const BranchAndBoundOptions window{.linear_window = 2.0, .angular_window = 0.3, .min_score = 0.3};
+  // Past the edge: the grid holds what lies within 3 m of the robot, the scan reaches 8 m.
+  OccupancyGrid near(0.05);
+  ScanInserter inserter;
+  inserter.Insert(ToScanPoints(SimulateScan(world, at, LaserOptions{}, rng), {.max_usable_range = 3.0}), at, near);
+  const ScanPoints moved = ToScanPoints(SimulateScan(world, at * Pose2D(0.3, 0.1, 0.05), LaserOptions{}, rng), {});
+  const MaxPoolStack shallow(near, 4), deep(near, 7);
+  const BranchAndBoundResult past_shallow = MatchByBranchAndBound(shallow, moved.hits, at, window);
+  const BranchAndBoundResult past_deep = MatchByBranchAndBound(deep, moved.hits, at, window);
+  ASSERT_TRUE(past_shallow.found);
+  ASSERT_TRUE(past_deep.found);
+  EXPECT_EQ(past_shallow.score, past_deep.score);
+  EXPECT_DOUBLE_EQ(past_shallow.score, FieldScore(shallow, moved.hits, at, past_shallow.pose));
+  // Inside: the grid holds everything the scan sees.
+  OccupancyGrid whole(0.05);
+  inserter.Insert(ToScanPoints(SimulateScan(world, at, LaserOptions{}, rng), {}), at, whole);
+  const ScanPoints again = ToScanPoints(SimulateScan(world, at, LaserOptions{}, rng), {});
+  const MaxPoolStack stack(whole, 6);
+  const BranchAndBoundResult inside = MatchByBranchAndBound(stack, again.hits, at * Pose2D(0.4, -0.3, 0.1), window);
+  ASSERT_TRUE(inside.found);
+  EXPECT_LT(std::hypot(inside.pose.x - at.x, inside.pose.y - at.y), 0.1);
+  EXPECT_DOUBLE_EQ(inside.score, FieldScore(stack, again.hits, at * Pose2D(0.4, -0.3, 0.1), inside.pose));
+}
+
+// Stopping at the first pose above a minimum finds one exactly when a pose that good exists.
+TEST(BranchAndBoundMatcherTest, FirstFoundAboveTheMinimumAgreesWithTheBest) {
+  const World world = LoopWorld();
+  std::mt19937_64 rng(9);
+  const Pose2D at(12.0, 2.5, 0.3);
+  OccupancyGrid grid(0.05);
+  ScanInserter inserter;
+  inserter.Insert(ToScanPoints(SimulateScan(world, at, LaserOptions{}, rng), {}), at, grid);
+  const ScanPoints scan = ToScanPoints(SimulateScan(world, at, LaserOptions{}, rng), {});
+  const MaxPoolStack stack(grid, 6);
+  BranchAndBoundOptions options{.linear_window = 2.0, .angular_window = 0.3, .min_score = 0.3};
+  const BranchAndBoundResult best = MatchByBranchAndBound(stack, scan.hits, at, options);
+  ASSERT_TRUE(best.found);
+  options.first_above_min_score = true;
+  options.min_score = 0.9 * best.score;
+  const BranchAndBoundResult first = MatchByBranchAndBound(stack, scan.hits, at, options);
+  ASSERT_TRUE(first.found);
+  EXPECT_GE(first.score, options.min_score);
+  EXPECT_LE(first.score, best.score);
+  options.min_score = best.score + 1e-3;
+  EXPECT_FALSE(MatchByBranchAndBound(stack, scan.hits, at, options).found);
+}
+
 TEST(LoopCloserTest, ClosesALoopWhoseDriftIsMetres) {
   const World world = LoopWorld();
   const std::vector<Pose2D> truth = LoopPath();
