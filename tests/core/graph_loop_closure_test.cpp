@@ -154,7 +154,7 @@ double FieldScore(const MaxPoolStack& stack, const std::vector<Eigen::Vector2f>&
 }
 
 // Scores are summed two ways: with bounds checks when some point of the scan lies past the search's
-// arrays (they reach 2^depth cells below the grid's known cells and two above), without them
+// arrays (they reach 2^depth cells past the grid's known cells on every side), without them
 // otherwise. Either way the search is exact and reports the field's own score at its pose.
 TEST(BranchAndBoundMatcherTest, ExactInsideTheGridAndPastItsEdge) {
   const World world = LoopWorld();

@@ -13,10 +13,13 @@ MaxPoolStack::MaxPoolStack(const OccupancyGrid& grid, int depth) : resolution_(g
   const CellBox box = grid.KnownBounds();
   levels_.resize(static_cast<std::size_t>(depth) + 1);
   if (box.empty()) return;
-  const int pad = 1 << depth;  // below the grid (block corners) and the field's reach above it
+  // Below the grid, block corners reach 2^depth cells out; above it, the field's reach is 2 cells.
+  // The same padding above as well lets the search sum a cloud that overhangs the known cells
+  // without bounds checks.
+  const int pad = 1 << depth;
   origin_ = box.min - Eigen::Vector2i::Constant(pad);
-  width_ = box.width() + pad + 2;
-  height_ = box.height() + pad + 2;
+  width_ = box.width() + 2 * pad + 2;
+  height_ = box.height() + 2 * pad + 2;
   const std::size_t n = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
   // Unknown cells (outside what the submap saw) hold a neutral value, below a hit: a point there
   // neither supports nor refutes a pose, while a point in observed free space refutes it.

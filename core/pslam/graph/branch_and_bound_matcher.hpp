@@ -51,7 +51,7 @@ class MaxPoolStack {
 
  private:
   double resolution_;
-  Eigen::Vector2i origin_;         // cell index of element (0, 0), padded by 2^depth below the grid
+  Eigen::Vector2i origin_;         // cell index of element (0, 0); the arrays pad the grid by 2^depth cells
   int width_ = 0, height_ = 0;
   std::vector<std::vector<std::uint8_t>> levels_;
 };
