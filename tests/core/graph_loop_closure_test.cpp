@@ -114,27 +114,35 @@ TEST(PoseGraphTest, LoopEdgeRemovesAccumulatedDrift) {
   EXPECT_EQ(graph.pose(0).x, truth[0].x);  // the anchor does not move
 }
 
+// The 5 cm grid of the scans simulated at 'poses', their points kept as 'points' says.
+OccupancyGrid MapSeenFrom(const World& world, const std::vector<Pose2D>& poses, std::mt19937_64& rng,
+                          const ScanPointsOptions& points = {}) {
+  OccupancyGrid grid(0.05);
+  ScanInserter inserter;
+  for (const Pose2D& p : poses) inserter.Insert(ToScanPoints(SimulateScan(world, p, LaserOptions{}, rng), points), p, grid);
+  return grid;
+}
+
+std::vector<Eigen::Vector2f> HitsAt(const World& world, const Pose2D& pose, std::mt19937_64& rng) {
+  return ToScanPoints(SimulateScan(world, pose, LaserOptions{}, rng), {}).hits;
+}
+
 TEST(BranchAndBoundMatcherTest, FindsAScanFarFromItsGuess) {
   const World world = LoopWorld();
   std::mt19937_64 rng(3);
   const Pose2D at(21.0, 3.0, 2.0);
-  OccupancyGrid grid(0.05);
-  ScanInserter inserter;
-  for (double dx : {0.0, -0.5, -1.0}) {
-    const Pose2D p = at * Pose2D(dx, 0.0, 0.0);
-    inserter.Insert(ToScanPoints(SimulateScan(world, p, LaserOptions{}, rng), {}), p, grid);
-  }
-  const ScanPoints scan = ToScanPoints(SimulateScan(world, at, LaserOptions{}, rng), {});
+  const OccupancyGrid grid = MapSeenFrom(world, {at, at * Pose2D(-0.5, 0.0, 0.0), at * Pose2D(-1.0, 0.0, 0.0)}, rng);
+  const std::vector<Eigen::Vector2f> hits = HitsAt(world, at, rng);
   const MaxPoolStack stack(grid, 6);
   const Pose2D guess = at * Pose2D(1.3, -0.9, 0.25);
-  const BranchAndBoundResult found = MatchByBranchAndBound(stack, scan.hits, guess, {.linear_window = 2.0, .angular_window = 0.4});
+  const BranchAndBoundResult found = MatchByBranchAndBound(stack, hits, guess, {.linear_window = 2.0, .angular_window = 0.4});
   ASSERT_TRUE(found.found);
   EXPECT_LT(std::hypot(found.pose.x - at.x, found.pose.y - at.y), 0.08);
   EXPECT_LT(std::abs(NormalizeAngle(found.pose.theta - at.theta)), 0.02);
   EXPECT_GT(found.score, 0.7);
   // Excluding the right answer leaves nothing that scores as well.
   const BranchAndBoundResult other = MatchByBranchAndBound(
-      stack, scan.hits, guess, {.linear_window = 2.0, .angular_window = 0.4, .min_score = 0.9 * found.score},
+      stack, hits, guess, {.linear_window = 2.0, .angular_window = 0.4, .min_score = 0.9 * found.score},
       [&](const Pose2D& p) { return std::hypot(p.x - at.x, p.y - at.y) < 0.5; });
   EXPECT_FALSE(other.found);
 }
@@ -162,26 +170,23 @@ TEST(BranchAndBoundMatcherTest, ExactInsideTheGridAndPastItsEdge) {
   const Pose2D at(3.0, 13.0, -0.7);
   const BranchAndBoundOptions window{.linear_window = 2.0, .angular_window = 0.3, .min_score = 0.3};
   // Past the edge: the grid holds what lies within 3 m of the robot, the scan reaches 8 m.
-  OccupancyGrid near(0.05);
-  ScanInserter inserter;
-  inserter.Insert(ToScanPoints(SimulateScan(world, at, LaserOptions{}, rng), {.max_usable_range = 3.0}), at, near);
-  const ScanPoints moved = ToScanPoints(SimulateScan(world, at * Pose2D(0.3, 0.1, 0.05), LaserOptions{}, rng), {});
+  const OccupancyGrid near = MapSeenFrom(world, {at}, rng, {.max_usable_range = 3.0});
+  const std::vector<Eigen::Vector2f> moved = HitsAt(world, at * Pose2D(0.3, 0.1, 0.05), rng);
   const MaxPoolStack shallow(near, 4), deep(near, 7);
-  const BranchAndBoundResult past_shallow = MatchByBranchAndBound(shallow, moved.hits, at, window);
-  const BranchAndBoundResult past_deep = MatchByBranchAndBound(deep, moved.hits, at, window);
+  const BranchAndBoundResult past_shallow = MatchByBranchAndBound(shallow, moved, at, window);
+  const BranchAndBoundResult past_deep = MatchByBranchAndBound(deep, moved, at, window);
   ASSERT_TRUE(past_shallow.found);
   ASSERT_TRUE(past_deep.found);
   EXPECT_EQ(past_shallow.score, past_deep.score);
-  EXPECT_DOUBLE_EQ(past_shallow.score, FieldScore(shallow, moved.hits, at, past_shallow.pose));
+  EXPECT_DOUBLE_EQ(past_shallow.score, FieldScore(shallow, moved, at, past_shallow.pose));
   // Inside: the grid holds everything the scan sees.
-  OccupancyGrid whole(0.05);
-  inserter.Insert(ToScanPoints(SimulateScan(world, at, LaserOptions{}, rng), {}), at, whole);
-  const ScanPoints again = ToScanPoints(SimulateScan(world, at, LaserOptions{}, rng), {});
+  const OccupancyGrid whole = MapSeenFrom(world, {at}, rng);
+  const std::vector<Eigen::Vector2f> again = HitsAt(world, at, rng);
   const MaxPoolStack stack(whole, 6);
-  const BranchAndBoundResult inside = MatchByBranchAndBound(stack, again.hits, at * Pose2D(0.4, -0.3, 0.1), window);
+  const BranchAndBoundResult inside = MatchByBranchAndBound(stack, again, at * Pose2D(0.4, -0.3, 0.1), window);
   ASSERT_TRUE(inside.found);
   EXPECT_LT(std::hypot(inside.pose.x - at.x, inside.pose.y - at.y), 0.1);
-  EXPECT_DOUBLE_EQ(inside.score, FieldScore(stack, again.hits, at * Pose2D(0.4, -0.3, 0.1), inside.pose));
+  EXPECT_DOUBLE_EQ(inside.score, FieldScore(stack, again, at * Pose2D(0.4, -0.3, 0.1), inside.pose));
 }
 
 // Stopping at the first pose above a minimum finds one exactly when a pose that good exists.
@@ -189,22 +194,19 @@ TEST(BranchAndBoundMatcherTest, FirstFoundAboveTheMinimumAgreesWithTheBest) {
   const World world = LoopWorld();
   std::mt19937_64 rng(9);
   const Pose2D at(12.0, 2.5, 0.3);
-  OccupancyGrid grid(0.05);
-  ScanInserter inserter;
-  inserter.Insert(ToScanPoints(SimulateScan(world, at, LaserOptions{}, rng), {}), at, grid);
-  const ScanPoints scan = ToScanPoints(SimulateScan(world, at, LaserOptions{}, rng), {});
-  const MaxPoolStack stack(grid, 6);
+  const MaxPoolStack stack(MapSeenFrom(world, {at}, rng), 6);
+  const std::vector<Eigen::Vector2f> hits = HitsAt(world, at, rng);
   BranchAndBoundOptions options{.linear_window = 2.0, .angular_window = 0.3, .min_score = 0.3};
-  const BranchAndBoundResult best = MatchByBranchAndBound(stack, scan.hits, at, options);
+  const BranchAndBoundResult best = MatchByBranchAndBound(stack, hits, at, options);
   ASSERT_TRUE(best.found);
   options.first_above_min_score = true;
   options.min_score = 0.9 * best.score;
-  const BranchAndBoundResult first = MatchByBranchAndBound(stack, scan.hits, at, options);
+  const BranchAndBoundResult first = MatchByBranchAndBound(stack, hits, at, options);
   ASSERT_TRUE(first.found);
   EXPECT_GE(first.score, options.min_score);
   EXPECT_LE(first.score, best.score);
   options.min_score = best.score + 1e-3;
-  EXPECT_FALSE(MatchByBranchAndBound(stack, scan.hits, at, options).found);
+  EXPECT_FALSE(MatchByBranchAndBound(stack, hits, at, options).found);
 }
 
 TEST(LoopCloserTest, ClosesALoopWhoseDriftIsMetres) {
