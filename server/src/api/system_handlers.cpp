@@ -32,11 +32,12 @@ constexpr std::chrono::seconds kHealthWindow{60};
 
 void AddSystemRoutes(Router& router, ApiContext& ctx) {
   router.Add("GET", "/api/health", Access::kNone, [&ctx](const ApiRequest&) {
-    const WriterStats w = ctx.mapping.writer().stats();
     nlohmann::json reasons = nlohmann::json::array();
     if (auto failure = ctx.mapping.writer().failures().Within(kHealthWindow)) {
       reasons.push_back("storage writes are failing: " + *failure);
     }
+    const WriterStats w = ctx.mapping.writer().stats();  // after the failures: the writer counts, then notes
+
     if (auto failure = ctx.mapping.engine_failures().Within(kHealthWindow)) {
       reasons.push_back("a session's engine failed: " + *failure);
     }

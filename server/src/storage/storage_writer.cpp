@@ -141,17 +141,26 @@ void StorageWriter::Loop() {
     if (!RunAtOnce(batch)) RunOneByOne(batch, errors, commit_error);
     const double ms = SecondsSince(start) * 1e3;
     std::size_t failed = 0;
+    const std::string* first_error = nullptr;
     for (std::size_t i = 0; i < batch.size(); ++i) {
       const std::string& error = commit_error.empty() ? errors[i] : commit_error;
-      if (!error.empty() && failed++ == 0) failures_.Note(error);
+      if (error.empty()) continue;
+      if (failed++ == 0) first_error = &error;
+    }
+    {
+      std::lock_guard lock(mutex_);
+      ++stats_.commits;
+      stats_.jobs += batch.size();
+      stats_.failed_jobs += failed;
+      stats_.last_commit_ms = ms;
+      stats_.max_commit_ms = std::max(stats_.max_commit_ms, ms);
+    }
+    // Counted before noted: whoever sees the failure (health reads it first) also sees it counted.
+    if (first_error) failures_.Note(*first_error);
+    for (std::size_t i = 0; i < batch.size(); ++i) {
+      const std::string& error = commit_error.empty() ? errors[i] : commit_error;
       if (batch[i].done) batch[i].done(error.empty(), error);
     }
-    std::lock_guard lock(mutex_);
-    ++stats_.commits;
-    stats_.jobs += batch.size();
-    stats_.failed_jobs += failed;
-    stats_.last_commit_ms = ms;
-    stats_.max_commit_ms = std::max(stats_.max_commit_ms, ms);
   }
 }
 
