@@ -35,6 +35,7 @@ LikelihoodField::LikelihoodField(const OccupancyGrid& map, const LikelihoodField
     }
   }
   if (occupied_cells_ == 0) throw std::invalid_argument("the map has no obstacle to localize against");
+  occupied_.assign(occupied.begin(), occupied.end());
   table_ = SquaredDistanceTransform(occupied, w, h);
   // With face_distance, the distance to an occupied cell's square rather than to its centre: an
   // occupied cell says that a surface lies somewhere in it, and a beam ends on its face.
@@ -54,26 +55,46 @@ float LikelihoodField::PointLogLikelihood(const Eigen::Vector2d& world) const {
   return table_[y * static_cast<std::size_t>(box_.width()) + x];
 }
 
-double LikelihoodField::InterpolatedLogLikelihood(const Eigen::Vector2d& world) const {
+template <typename T>
+double LikelihoodField::Interpolate(const std::vector<T>& table, const Eigen::Vector2d& world, double outside) const {
   // Cell (i, j)'s value holds at its centre ((i + 0.5) r, (j + 0.5) r).
   const double u = world.x() / resolution_ - 0.5, v = world.y() / resolution_ - 0.5;
   const double fu = std::floor(u), fv = std::floor(v);
-  if (!(fu >= box_.min.x() && fu < box_.max.x() && fv >= box_.min.y() && fv < box_.max.y())) return miss_;
+  if (!(fu >= box_.min.x() && fu < box_.max.x() && fv >= box_.min.y() && fv < box_.max.y())) return outside;
   const auto x = static_cast<std::size_t>(static_cast<int>(fu) - box_.min.x());
   const auto y = static_cast<std::size_t>(static_cast<int>(fv) - box_.min.y());
   const auto w = static_cast<std::size_t>(box_.width());
   const double a = u - fu, b = v - fv;
-  const float* row = &table_[y * w + x];
+  const T* row = &table[y * w + x];
   return (1.0 - b) * ((1.0 - a) * row[0] + a * row[1]) + b * ((1.0 - a) * row[w] + a * row[w + 1]);
 }
 
+double LikelihoodField::InterpolatedLogLikelihood(const Eigen::Vector2d& world) const {
+  return Interpolate(table_, world, miss_);
+}
+
+double LikelihoodField::SeenLogLikelihood(const Eigen::Vector2d& world, const Eigen::Vector2d& sensor) const {
+  const double here = InterpolatedLogLikelihood(world);
+  const Eigen::Vector2d back = sensor - world;
+  const double length = back.norm();
+  if (length <= resolution_) return here;
+  const double blocked = Interpolate(occupied_, world + back * (resolution_ / length), 0.0);
+  return here + blocked * (miss_ - here);
+}
+
 Pose2D LikelihoodField::Refine(const std::vector<Eigen::Vector2f>& points, const Pose2D& initial, double max_shift,
-                               double max_turn, double min_step) const {
+                               double max_turn, double min_step, const RefinePrior& prior) const {
   const auto score = [&](const Pose2D& pose) {
     const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+    const Eigen::Vector2d sensor(pose.x, pose.y);
     double sum = 0.0;
-    for (const auto& p : points) sum += InterpolatedLogLikelihood({pose.x + c * p.x() - s * p.y(), pose.y + s * p.x() + c * p.y()});
-    return sum;
+    for (const auto& p : points) {
+      sum += SeenLogLikelihood({pose.x + c * p.x() - s * p.y(), pose.y + s * p.x() + c * p.y()}, sensor);
+    }
+    const Eigen::Vector2d shift(pose.x - initial.x, pose.y - initial.y);
+    const double turn = NormalizeAngle(pose.theta - initial.theta);
+    return prior.likelihood_weight * sum -
+           0.5 * (shift.dot(prior.position_information * shift) + prior.heading_information * turn * turn);
   };
   Pose2D best = initial;
   double best_score = score(best);

@@ -6,6 +6,7 @@
 // transform once and then costs one table read per endpoint, which is what thousands of particles
 // need.
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
 #include "pslam/common/pose2d.hpp"
@@ -13,6 +14,15 @@
 #include "pslam/localize/mcl_options.hpp"
 
 namespace pslam {
+
+// A Gaussian about the pose a refinement starts from, with the given information (inverse
+// covariance): where the scan pins a direction down the pose moves, where it does not (along a
+// corridor, past a wall the map lacks) the prior holds it. The default is no prior.
+struct RefinePrior {
+  Eigen::Matrix2d position_information = Eigen::Matrix2d::Zero();  // 1/m^2
+  double heading_information = 0.0;                                 // 1/rad^2
+  double likelihood_weight = 1.0;                                   // on the scan's log-likelihood
+};
 
 class LikelihoodField {
  public:
@@ -25,12 +35,18 @@ class LikelihoodField {
   float PointLogLikelihood(const Eigen::Vector2d& world) const;
   // The same, bilinearly interpolated between cell centres: smooth, for refining a pose.
   double InterpolatedLogLikelihood(const Eigen::Vector2d& world) const;
+  // The same for an endpoint seen from 'sensor': as a miss where the cell a step back toward the
+  // sensor is occupied too, since the beam would have stopped there. Inside a wall two or more
+  // cells thick the field is flat; this puts the endpoint on the face that was seen.
+  double SeenLogLikelihood(const Eigen::Vector2d& world, const Eigen::Vector2d& sensor) const;
   // The pose within max_shift (m) and max_turn (rad) of 'initial' that maximises the interpolated
   // log-likelihood of the endpoints (robot frame), by a pattern search halving its steps (from
   // 4 cm and 0.02 rad) until they are below min_step (m). The particle cloud limits the filter's
   // estimate to its spread; this does not.
+  // With a prior, the pose maximises likelihood_weight times that log-likelihood plus the log of
+  // a Gaussian about 'initial' (RefinePrior).
   Pose2D Refine(const std::vector<Eigen::Vector2f>& points, const Pose2D& initial, double max_shift, double max_turn,
-                double min_step = 0.002) const;
+                double min_step = 0.002, const RefinePrior& prior = RefinePrior()) const;
   // The score of an endpoint max_distance or more from any obstacle, or off the map.
   float miss_log_likelihood() const { return miss_; }
   int occupied_cells() const { return occupied_cells_; }
@@ -38,7 +54,11 @@ class LikelihoodField {
  private:
   double resolution_;
   CellBox box_;                 // cells covered by the table: the known map plus max_distance
+  template <typename T>
+  double Interpolate(const std::vector<T>& table, const Eigen::Vector2d& world, double outside) const;
+
   std::vector<float> table_;    // row-major over box_
+  std::vector<std::uint8_t> occupied_;  // 1 for an obstacle cell, same layout
   float miss_ = 0.0f;
   int occupied_cells_ = 0;
 };

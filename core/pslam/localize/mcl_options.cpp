@@ -25,10 +25,9 @@ const OptionTable<MclOptions>& Setters() {
       {"localized_heading_std", Option(&MclOptions::localized_heading_std)},
       {"refine", Option(&MclOptions::refine)},
       {"refine_max_points", Option(&MclOptions::refine_max_points)},
+      {"refine_gain", Option(&MclOptions::refine_gain)},
       {"refine_max_shift", Option(&MclOptions::refine_max_shift)},
       {"refine_max_turn", Option(&MclOptions::refine_max_turn)},
-      {"unlocalized_refine_shift", Option(&MclOptions::unlocalized_refine_shift)},
-      {"unlocalized_refine_turn", Option(&MclOptions::unlocalized_refine_turn)},
       {"seed", Option(&MclOptions::seed)},
       {"scan_odometry.enabled", Option(&MclOptions::scan_odometry, &ScanOdometryOptions::enabled)},
       {"scan_odometry.scans_per_map", Option(&MclOptions::scan_odometry, &ScanOdometryOptions::scans_per_map)},
@@ -85,9 +84,9 @@ std::string ValidateMclOptions(const MclOptions& o) {
   if (!(l.max_distance > 0.0) || l.max_distance > 50.0) return "likelihood.max_distance must be in (0, 50] m";
   if (!(l.temperature > 0.0) || l.max_beams < 1) return "need likelihood.temperature > 0 and max_beams >= 1";
   if (!(l.occupied_probability > 0.5 && l.occupied_probability < 1.0)) return "need 0.5 < likelihood.occupied_probability < 1";
-  if (o.refine_max_points < 1 || !(o.refine_max_shift >= 0.0) || !(o.refine_max_turn >= 0.0) ||
-      !(o.unlocalized_refine_shift >= 0.0) || !(o.unlocalized_refine_turn >= 0.0))
-    return "need refine_max_points >= 1 and non-negative refine and unlocalized_refine bounds";
+  if (!(o.refine_gain > 0.0 && o.refine_gain <= 1.0)) return "need 0 < refine_gain <= 1";
+  if (o.refine_max_points < 1 || !(o.refine_max_shift >= 0.0) || !(o.refine_max_turn >= 0.0))
+    return "need refine_max_points >= 1 and non-negative refine bounds";
   if (o.scan_odometry.scans_per_map < 1 || o.scan_odometry.scans_per_map > 10000) return "need 1 <= scan_odometry.scans_per_map <= 10000";
   if (!(o.scan_odometry.min_constrained_ratio >= 0.0 && o.scan_odometry.min_constrained_ratio <= 1.0))
     return "need 0 <= scan_odometry.min_constrained_ratio <= 1";

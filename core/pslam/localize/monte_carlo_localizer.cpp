@@ -14,10 +14,10 @@
 namespace pslam {
 namespace {
 
-// Separate random streams per purpose, all derived from (seed, step, index).
+// One random stream per step and purpose, derived from (seed, step, purpose); the particles draw
+// from it in turn. (The mapping filter gives each particle a stream of its own, since it weighs
+// them on several threads; seeding one per particle cost more here than the draws.)
 enum Stream : std::uint64_t { kStart = 1, kMotion = 2, kResample = 3, kInjection = 4 };
-
-std::uint64_t StreamIndex(Stream s, std::uint64_t index) { return (index << 3) | s; }
 
 double LogAddExp(double a, double b) {
   const double top = std::max(a, b);
@@ -88,8 +88,8 @@ void MonteCarloLocalizer::SetPose(const Pose2D& mean, const Eigen::Matrix3d& cov
       eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * eigen.eigenvectors().transpose();
   std::vector<Pose2D> poses(static_cast<std::size_t>(options_.max_particles));
   std::normal_distribution<double> gauss(0.0, 1.0);
+  std::mt19937_64 rng = MakeStream(options_.seed, step_, kStart);
   for (std::size_t i = 0; i < poses.size(); ++i) {
-    std::mt19937_64 rng = MakeStream(options_.seed, step_, StreamIndex(kStart, i));
     const Eigen::Vector3d z(gauss(rng), gauss(rng), gauss(rng));
     const Eigen::Vector3d d = root * z;
     poses[i] = Pose2D(mean.x + d.x(), mean.y + d.y(), mean.theta + d.z());
@@ -99,10 +99,8 @@ void MonteCarloLocalizer::SetPose(const Pose2D& mean, const Eigen::Matrix3d& cov
 
 void MonteCarloLocalizer::StartGlobal() {
   std::vector<Pose2D> poses(static_cast<std::size_t>(options_.max_particles));
-  for (std::size_t i = 0; i < poses.size(); ++i) {
-    std::mt19937_64 rng = MakeStream(options_.seed, step_, StreamIndex(kStart, i));
-    poses[i] = RandomFreePose(rng);
-  }
+  std::mt19937_64 rng = MakeStream(options_.seed, step_, kStart);
+  for (Pose2D& pose : poses) pose = RandomFreePose(rng);
   Reset(std::move(poses));
   if (places_) {
     places_->Reset();
@@ -139,7 +137,7 @@ void MonteCarloLocalizer::Weigh(const std::vector<Eigen::Vector2f>& points) {
 
 void MonteCarloLocalizer::Resample() {
   const std::vector<double> w = weights();
-  std::mt19937_64 rng = MakeStream(options_.seed, step_, StreamIndex(kResample, 0));
+  std::mt19937_64 rng = MakeStream(options_.seed, step_, kResample);
   // KLD: the bins a full-size draw from the posterior occupies set the count. Drawing max_particles
   // first and counting afterwards, rather than stopping a draw early as Fox does, keeps the draw
   // low-variance (a systematic comb cut short would cover only part of the weights).
@@ -154,10 +152,10 @@ void MonteCarloLocalizer::Resample() {
   std::vector<Pose2D> next(picks.size());
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   int injected = 0;
+  std::mt19937_64 slot_rng = MakeStream(options_.seed, step_, kInjection);
   for (std::size_t i = 0; i < picks.size(); ++i) {
     next[i] = poses_[static_cast<std::size_t>(picks[i])];
     if (inject <= 0.0) continue;
-    std::mt19937_64 slot_rng = MakeStream(options_.seed, step_, StreamIndex(kInjection, i));
     if (unit(slot_rng) >= inject) continue;
     next[i] = RandomFreePose(slot_rng);
     ++injected;
@@ -202,26 +200,16 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
   const std::vector<Eigen::Vector2f> hits = ToScanPoints(scan, options_.points).hits;
   if (!force_update_ && !MovedEnough(delta, options_)) {
     last_.estimate = last_.cluster.mean * delta;  // between updates, odometry carries the estimate
-    RefineEstimate(hits);
+    RefineEstimate(hits, odometry);
     SearchPlace(hits, odometry);
     return last_;
   }
   ++step_;
-  for (std::size_t i = 0; i < poses_.size(); ++i) {
-    std::mt19937_64 rng = MakeStream(options_.seed, step_, StreamIndex(kMotion, i));
-    poses_[i] = poses_[i] * SampleMotion(delta, options_.motion, rng);
-  }
+  std::mt19937_64 rng = MakeStream(options_.seed, step_, kMotion);
+  for (Pose2D& pose : poses_) pose = pose * SampleMotion(delta, options_.motion, rng);
   update_odometry_ = odometry;
   force_update_ = false;
   const std::vector<Eigen::Vector2f> points = SelectEvenly(hits, options_.likelihood.max_beams);
-  if (!points.empty() && !last_.localized && options_.unlocalized_refine_shift > 0.0) {
-    // While not localized, each particle first moves to the best-fitting pose near it, so that a
-    // place's weight says how well the place explains the scan, not how close its nearest
-    // particle happened to land: otherwise a look-alike place is lost to chance in the first
-    // updates of a spread cloud.
-    // To a centimetre: the weights need the place, not the last millimetre.
-    for (Pose2D& pose : poses_) pose = field_.Refine(points, pose, options_.unlocalized_refine_shift, options_.unlocalized_refine_turn, 0.01);
-  }
   if (!points.empty()) Weigh(points);
   last_.updated = true;
   last_.effective_sample_size = EffectiveSampleSize(weights());
@@ -241,7 +229,7 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
   }
   ++stats_.updates;
   Summarize();
-  RefineEstimate(hits);
+  RefineEstimate(hits, odometry);
   SearchPlace(hits, odometry);
   return last_;
 }
@@ -267,10 +255,37 @@ void MonteCarloLocalizer::SearchPlace(const std::vector<Eigen::Vector2f>& hits, 
   if (last_.place.outcome != PlaceMatch::Outcome::kNone || !places_->searched()) last_.localized = false;
 }
 
-void MonteCarloLocalizer::RefineEstimate(const std::vector<Eigen::Vector2f>& hits) {
-  if (!options_.refine || !last_.localized) return;
+void MonteCarloLocalizer::RefineEstimate(const std::vector<Eigen::Vector2f>& hits, const Pose2D& odometry) {
+  if (!options_.refine || !last_.localized) {
+    report_.reset();
+    return;
+  }
   const std::vector<Eigen::Vector2f> points = SelectEvenly(hits, options_.refine_max_points);
-  if (!points.empty()) last_.estimate = field_.Refine(points, last_.estimate, options_.refine_max_shift, options_.refine_max_turn);
+  if (points.empty()) return;
+  // The cloud is the prior; the scan weighs as much as in an update of the filter.
+  RefinePrior prior;
+  const double floor = 1e-4;  // (1 cm)^2, so that a collapsed cloud does not pin the pose
+  prior.position_information = (last_.cluster.position_covariance + floor * Eigen::Matrix2d::Identity()).inverse();
+  prior.heading_information = 1.0 / (last_.cluster.heading_std * last_.cluster.heading_std + 1e-5);
+  prior.likelihood_weight = static_cast<double>(std::min<std::size_t>(points.size(), options_.likelihood.max_beams)) /
+                            (static_cast<double>(points.size()) * options_.likelihood.temperature);
+  const Pose2D cloud = last_.estimate;
+  const Pose2D refined = field_.Refine(points, cloud, options_.refine_max_shift, options_.refine_max_turn, 0.002, prior);
+  const Pose2D predicted = report_ ? *report_ * Between(report_odometry_, odometry) : refined;
+  // A report that has fallen as far behind the cloud as a fit may move (the cloud jumped to a
+  // recognized place) restarts at the fit.
+  const bool behind = std::hypot(predicted.x - cloud.x, predicted.y - cloud.y) > options_.refine_max_shift ||
+                      std::abs(NormalizeAngle(predicted.theta - cloud.theta)) > options_.refine_max_turn;
+  if (report_ && !behind) {
+    // The last report moved by odometry, pulled toward this scan's fit by the gain.
+    const double k = options_.refine_gain;
+    last_.estimate = Pose2D(predicted.x + k * (refined.x - predicted.x), predicted.y + k * (refined.y - predicted.y),
+                            predicted.theta + k * NormalizeAngle(refined.theta - predicted.theta));
+  } else {
+    last_.estimate = refined;
+  }
+  report_ = last_.estimate;
+  report_odometry_ = odometry;
 }
 
 }  // namespace pslam

@@ -80,7 +80,7 @@ class MonteCarloLocalizer {
   void Resample();
   void Summarize();
   // Both take the scan's endpoints in the robot frame.
-  void RefineEstimate(const std::vector<Eigen::Vector2f>& hits);
+  void RefineEstimate(const std::vector<Eigen::Vector2f>& hits, const Pose2D& odometry);
   void SearchPlace(const std::vector<Eigen::Vector2f>& hits, const Pose2D& odometry);
 
   MclOptions options_;
@@ -98,6 +98,8 @@ class MonteCarloLocalizer {
   std::uint64_t step_ = 0;         // updates and starts so far: the random stream index
   long long averaged_ = 0;         // samples in the recovery averages since the last start
   double log_w_slow_ = 0.0, log_w_fast_ = 0.0;
+  std::optional<Pose2D> report_;   // the last refined report, and the odometry it was made at
+  Pose2D report_odometry_;
   MclUpdate last_;
   MclStats stats_;
 };
