@@ -10,6 +10,7 @@
 
 #include "experiment_common.hpp"
 #include "pslam/experiment/localization_tour.hpp"
+#include "pslam/io/map_io.hpp"
 
 namespace pslam {
 namespace {
@@ -17,10 +18,12 @@ namespace {
 constexpr const char* kUsage =
     "usage: pslam experiment localize [--world FILE.yaml] [--start X,Y,THETA] [--runs N] [--seed S]\n"
     "                                 [--distance M] [--kidnap-after M --kidnap-pose X,Y,THETA]\n"
-    "                                 [--mapping] [--no-look-around] [--trace OUT.txt] [--json OUT]\n"
-    "                                 [--set NAME=VALUE ...]\n"
+    "                                 [--map MAP.yaml] [--mapping] [--no-look-around] [--trace OUT.txt]\n"
+    "                                 [--json OUT] [--set NAME=VALUE ...]\n"
     "  Drives the simulated robot along planned paths to random goals (default world:\n"
-    "  core/worlds/office.yaml) and localizes it on the world's map, once from the start pose given\n"
+    "  core/worlds/office.yaml) and localizes it on the world's map (--map: on MAP.yaml instead, in\n"
+    "  the world's frame, e.g. the map an earlier exploration built: 'pslam experiment hypotheses\n"
+    "  --save PREFIX'), once from the start pose given\n"
     "  with 0.2 m / 0.1 rad of spread (tracking) and once with no pose (global localization), for\n"
     "  seeds S, S+1, ... --kidnap-after carries the robot to --kidnap-pose after M metres in the\n"
     "  tracking run. Whenever the localizer starts searching for its place (a global start, a\n"
@@ -61,6 +64,7 @@ int RunLocalizeExperiment(CliArgs& cli) {
     if (!pose) cli.AddError("--kidnap-pose needs X,Y,THETA, got '" + *kidnap + "'");
     else options.kidnap_pose = *pose;
   }
+  const std::optional<std::string> map_path = cli.Value("--map");
   const bool mapping = cli.Flag("--mapping");
   options.look_around = !cli.Flag("--no-look-around");
   const std::optional<std::string> trace = cli.Value("--trace");
@@ -83,11 +87,12 @@ int RunLocalizeExperiment(CliArgs& cli) {
   }
 
   try {
-    const OccupancyGrid map = world->world.ToGrid();
+    const OccupancyGrid map = map_path ? LoadMap(*map_path) : world->world.ToGrid();
     std::vector<double> position, heading, converge, mcl_cpu, map_cpu, recover, false_localized;
     int never = 0, unrecovered = 0;
     std::vector<LocalizationSample> last_global;
-    std::printf("%s, %d run(s) of %.0f m\n", world->path.c_str(), runs, options.distance);
+    std::printf("%s, %d run(s) of %.0f m%s%s\n", world->path.c_str(), runs, options.distance, map_path ? ", on " : "",
+                map_path ? map_path->c_str() : "");
     for (int r = 0; r < runs; ++r) {
       options.seed = first_seed + static_cast<std::uint64_t>(r);
       options.global = false;
@@ -147,6 +152,7 @@ int RunLocalizeExperiment(CliArgs& cli) {
     if (trace) WriteTrace(*trace, last_global);
     if (json_path) {
       WriteJsonFile(*json_path, JsonObject({{"world", JsonString(world->path)},
+                                           {"map", JsonString(map_path ? *map_path : world->path)},
                                            {"runs", JsonNumber(runs)},
                                            {"tracking_position_error_m", JsonArray(position)},
                                            {"tracking_heading_error_rad", JsonArray(heading)},
