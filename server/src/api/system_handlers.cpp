@@ -37,7 +37,6 @@ void AddSystemRoutes(Router& router, ApiContext& ctx) {
       reasons.push_back("storage writes are failing: " + *failure);
     }
     const WriterStats w = ctx.mapping.writer().stats();  // after the failures: the writer counts, then notes
-
     if (auto failure = ctx.mapping.engine_failures().Within(kHealthWindow)) {
       reasons.push_back("a session's engine failed: " + *failure);
     }
