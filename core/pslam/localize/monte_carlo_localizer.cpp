@@ -261,16 +261,18 @@ void MonteCarloLocalizer::RefineEstimate(const std::vector<Eigen::Vector2f>& hit
     return;
   }
   const std::vector<Eigen::Vector2f> points = SelectEvenly(hits, options_.refine_max_points);
-  if (points.empty()) return;
-  // The cloud is the prior; the scan weighs as much as in an update of the filter.
-  RefinePrior prior;
-  const double floor = 1e-4;  // (1 cm)^2, so that a collapsed cloud does not pin the pose
-  prior.position_information = (last_.cluster.position_covariance + floor * Eigen::Matrix2d::Identity()).inverse();
-  prior.heading_information = 1.0 / (last_.cluster.heading_std * last_.cluster.heading_std + 1e-5);
-  prior.likelihood_weight = static_cast<double>(std::min<std::size_t>(points.size(), options_.likelihood.max_beams)) /
-                            (static_cast<double>(points.size()) * options_.likelihood.temperature);
   const Pose2D cloud = last_.estimate;
-  const Pose2D refined = field_.Refine(points, cloud, options_.refine_max_shift, options_.refine_max_turn, 0.002, prior);
+  Pose2D refined = cloud;  // a scan with no return fits nothing: the report is pulled toward the cloud
+  if (!points.empty()) {
+    // The cloud is the prior; the scan weighs as much as in an update of the filter.
+    RefinePrior prior;
+    const double floor = 1e-4;  // (1 cm)^2, so that a collapsed cloud does not pin the pose
+    prior.position_information = (last_.cluster.position_covariance + floor * Eigen::Matrix2d::Identity()).inverse();
+    prior.heading_information = 1.0 / (last_.cluster.heading_std * last_.cluster.heading_std + 1e-5);
+    prior.likelihood_weight = static_cast<double>(std::min<std::size_t>(points.size(), options_.likelihood.max_beams)) /
+                              (static_cast<double>(points.size()) * options_.likelihood.temperature);
+    refined = field_.Refine(points, cloud, options_.refine_max_shift, options_.refine_max_turn, 0.002, prior);
+  }
   const Pose2D predicted = report_ ? *report_ * Between(report_odometry_, odometry) : refined;
   // A report that has fallen as far behind the cloud as a fit may move (the cloud jumped to a
   // recognized place) restarts at the fit.
