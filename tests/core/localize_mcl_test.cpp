@@ -12,7 +12,6 @@
 #include "pslam/localize/likelihood_field.hpp"
 #include "pslam/localize/monte_carlo_localizer.hpp"
 #include "pslam/localize/particle_clusters.hpp"
-#include "pslam/sim/ray_cast.hpp"
 #include "pslam/sim/world_file.hpp"
 #include "pslam/sim/world_painter.hpp"
 
@@ -76,29 +75,6 @@ TEST(LocalizeMclTest, RefiningTheEstimateOnTheMapBeatsTheParticleCloud) {
   EXPECT_LT(refined.mean_heading, 0.3 * kDegree);
   EXPECT_LT(refined.max_position, 0.15);
   EXPECT_LT(refined.mean_position, 0.5 * cloud.mean_position);
-}
-
-TEST(LocalizeMclTest, RefineFindsThePoseOfAScanOnTheField) {
-  // Endpoints on the room's walls, seen from a known pose; refinement from 6 cm and 2 degrees
-  // off comes back to within half a cell.
-  const ShippedMap room = Load("irregular");
-  const LikelihoodField field(room.map, LikelihoodFieldOptions{});
-  const Pose2D truth = room.start;
-  std::vector<Eigen::Vector2f> points;
-  for (int i = 0; i < 360; ++i) {
-    const double a = i * std::numbers::pi / 180.0;
-    const double range = CastRay(room.world, truth.translation(), truth.theta + a, 20.0);
-    if (range < 20.0) points.emplace_back(static_cast<float>(range * std::cos(a)), static_cast<float>(range * std::sin(a)));
-  }
-  ASSERT_GT(points.size(), 100u);
-  const Pose2D off(truth.x + 0.05, truth.y - 0.035, truth.theta + 2.0 * kDegree);
-  const Pose2D refined = field.Refine(points, off, 0.12, 0.1);
-  // Inside a wall every cell scores alike: the endpoints may sink up to half a cell into it.
-  EXPECT_LT((refined.translation() - truth.translation()).norm(), 0.04);
-  EXPECT_LT(std::abs(NormalizeAngle(refined.theta - truth.theta)), 0.5 * kDegree);
-  // It never leaves the bounds it was given.
-  const Pose2D bounded = field.Refine(points, off, 0.01, 0.005);
-  EXPECT_LE((bounded.translation() - off.translation()).norm(), 0.01 + 1e-9);
 }
 
 TEST(LocalizeMclTest, GlobalLocalizationConvergesWithoutAStartPose) {

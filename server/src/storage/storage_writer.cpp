@@ -1,5 +1,6 @@
 #include "storage/storage_writer.hpp"
 
+#include <algorithm>
 #include <exception>
 #include <future>
 #include <iostream>
@@ -140,13 +141,9 @@ void StorageWriter::Loop() {
     std::string commit_error;
     if (!RunAtOnce(batch)) RunOneByOne(batch, errors, commit_error);
     const double ms = SecondsSince(start) * 1e3;
-    std::size_t failed = 0;
-    const std::string* first_error = nullptr;
-    for (std::size_t i = 0; i < batch.size(); ++i) {
-      const std::string& error = commit_error.empty() ? errors[i] : commit_error;
-      if (error.empty()) continue;
-      if (failed++ == 0) first_error = &error;
-    }
+    if (!commit_error.empty()) std::fill(errors.begin(), errors.end(), commit_error);  // nothing was kept
+    const auto failed = static_cast<std::size_t>(
+        std::count_if(errors.begin(), errors.end(), [](const std::string& e) { return !e.empty(); }));
     {
       std::lock_guard lock(mutex_);
       ++stats_.commits;
@@ -156,10 +153,10 @@ void StorageWriter::Loop() {
       stats_.max_commit_ms = std::max(stats_.max_commit_ms, ms);
     }
     // Counted before noted: whoever sees the failure (health reads it first) also sees it counted.
-    if (first_error) failures_.Note(*first_error);
+    const auto first_error = std::find_if(errors.begin(), errors.end(), [](const std::string& e) { return !e.empty(); });
+    if (first_error != errors.end()) failures_.Note(*first_error);
     for (std::size_t i = 0; i < batch.size(); ++i) {
-      const std::string& error = commit_error.empty() ? errors[i] : commit_error;
-      if (batch[i].done) batch[i].done(error.empty(), error);
+      if (batch[i].done) batch[i].done(errors[i].empty(), errors[i]);
     }
   }
 }
