@@ -1,0 +1,203 @@
+#!/usr/bin/env bash
+# Localization on a stored map, on every benchmark log: each log (NAME/NAME.clf with
+# NAME/NAME.relations in the shared data) is cut by time at the midpoint of its records, the first
+# half mapped (`pslam run --no-predict`, seed 1), and the second half localized on that map from
+# the first half's last pose (`pslam localize`), once per seed. Both are scored on the relations
+# whose two stamps lie in the second half, against mapping the second half alone at the same seed:
+# the issue's bar is that localizing is no worse than mapping. Prints one markdown table.
+#
+# Usage: tests/bench/localize_bench.sh [--seeds LIST] [--logs NAME,...] [--jobs J]
+#                                      [--set NAME=VALUE]... [--data DIR] [--keep DIR]
+#   --seeds LIST     e.g. 1-5, 1,3,7 or 1-3,9 (default 1-3)
+#   --logs LIST      some of the logs, e.g. aces,fr079 (default: every one found)
+#   --jobs J         runs at once (default 1); CPU per scan is comparable only at 1
+#   --set NAME=VALUE passed on to `pslam localize` (see `pslam localize --help`); repeatable
+#   --data DIR       the shared data folder (default: $PSLAM_DATA_DIR, else ../shared/data)
+#   --keep DIR       keep the halves, maps and trajectories there (default: a temporary folder)
+# PSLAM_BIN=PATH runs that pslam binary instead of build/bin/pslam.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+
+usage() {
+  sed -n '/^# Usage:/,/^#   --keep/p' "$0" | sed 's/^# \{0,1\}//' >&2
+  exit 2
+}
+die() {
+  echo "localize_bench: $*" >&2
+  exit 1
+}
+
+seed_list=1-3
+log_list=
+jobs=1
+sets=()
+keep=
+data="${PSLAM_DATA_DIR:-../shared/data}"
+while (( $# )); do
+  case $1 in
+    --seeds) seed_list=${2:?}; shift ;;
+    --logs) log_list=${2:?}; shift ;;
+    --jobs) jobs=${2:?}; shift ;;
+    --set) sets+=(--set "${2:?}"); shift ;;
+    --data) data=${2:?}; shift ;;
+    --keep) keep=${2:?}; shift ;;
+    -h|--help) usage ;;
+    *) echo "localize_bench: unknown option '$1'" >&2; usage ;;
+  esac
+  shift
+done
+[[ $jobs =~ ^[1-9][0-9]*$ ]] || die "--jobs must be a positive integer, got '$jobs'"
+
+seeds=()
+IFS=, read -ra parts <<<"$seed_list"
+for part in "${parts[@]}"; do
+  if [[ $part =~ ^([0-9]+)-([0-9]+)$ ]]; then
+    mapfile -t -O "${#seeds[@]}" seeds < <(seq "${BASH_REMATCH[1]}" "${BASH_REMATCH[2]}")
+  elif [[ $part =~ ^[0-9]+$ ]]; then
+    seeds+=("$part")
+  else
+    die "--seeds: expected numbers and ranges like 1-5,9, got '$seed_list'"
+  fi
+done
+(( ${#seeds[@]} )) || die "--seeds gives no seed: '$seed_list'"
+
+[[ -d $data ]] || die "no data folder $data (set --data or PSLAM_DATA_DIR)"
+logs=()
+if [[ -n $log_list ]]; then
+  IFS=, read -ra logs <<<"$log_list"
+else
+  for dir in "$data"/*/; do
+    name=$(basename "$dir")
+    [[ -f $dir/$name.clf && -f $dir/$name.relations ]] && logs+=("$name")
+  done
+fi
+(( ${#logs[@]} )) || die "no log in $data (a log is NAME/NAME.clf with NAME/NAME.relations)"
+for log in "${logs[@]}"; do
+  [[ -f $data/$log/$log.clf && -f $data/$log/$log.relations ]] ||
+    die "log '$log' needs $data/$log/$log.clf and $data/$log/$log.relations"
+done
+
+pslam=${PSLAM_BIN:-build/bin/pslam}
+[[ -x $pslam ]] || die "$pslam not found: build it with 'cmake --build build --target pslam'"
+
+if [[ -n $keep ]]; then
+  mkdir -p "$keep"
+  tmp=$(cd "$keep" && pwd)
+else
+  tmp=$(mktemp -d)
+  trap 'rm -rf "$tmp"' EXIT
+fi
+
+json_field() { grep -o "\"$1\": *[-0-9.eE+naif]*" "$2" | awk -F': *' '{print $2}'; }
+
+# Runs a pslam command, its output to $2.out and errors to $2.err; on failure names it and stops.
+run_pslam() {
+  local what=$1 base=$2 status=0
+  shift 2
+  "$pslam" "$@" >"$base.out" 2>"$base.err" || status=$?
+  (( status == 0 )) && return 0
+  echo "localize_bench: pslam $what failed (exit status $status):" >&2
+  head -n 5 "$base.err" >&2
+  return 1
+}
+
+# Cuts LOG at the midpoint of its records' ipc timestamps (the third field from the end);
+# comments and PARAM lines go to both halves. Maps the first half and keeps the relations whose
+# two stamps lie in the second.
+prepare() {
+  local log=$1 base=$tmp/$log
+  local mid
+  mid=$(awk '!/^#/ && $1 != "PARAM" && NF > 3 {t = $(NF - 2) + 0; if (!n++ || t < lo) lo = t; if (t > hi) hi = t}
+             END {if (n) printf "%.6f", (lo + hi) / 2}' "$data/$log/$log.clf")
+  [[ -n $mid ]] || die "$log.clf has no timestamped record"
+  awk -v mid="$mid" -v first="$base.first.clf" -v second="$base.second.clf" '
+    /^#/ || $1 == "PARAM" || NF <= 3 {print > first; print > second; next}
+    {if ($(NF - 2) + 0 < mid) print > first; else print > second}' "$data/$log/$log.clf"
+  awk -v mid="$mid" '$1 + 0 >= mid && $2 + 0 >= mid' "$data/$log/$log.relations" >"$base.relations"
+  [[ -s $base.relations ]] || die "$log: no relation lies in the second half"
+  run_pslam "run (first half of $log)" "$base.map" run --quiet --no-predict --seed 1 --log "$base.first.clf" \
+    --map "$base.first" --trajectory "$base.first.trajectory"
+  echo "localize_bench: $log cut at $mid s; first half mapped, $(wc -l <"$base.relations") relations in the second" >&2
+}
+
+# Localizes and maps the second half of LOG at SEED; leaves
+# "loc_trans loc_rot map_trans map_rot cpu_ms localized_percent" in $tmp/LOG.SEED.row.
+run_one() {
+  local log=$1 seed=$2 base=$tmp/$log.$seed
+  local pose
+  pose=$(awk '!/^#/ {p = $2 "," $3 "," $4} END {print p}' "$tmp/$log.first.trajectory")
+  run_pslam "localize ($log seed $seed)" "$base.localize" localize --map "$tmp/$log.first.yaml" \
+    --log "$tmp/$log.second.clf" --initial-pose "$pose" --seed "$seed" --trajectory "$base.localized" "${sets[@]}" || return 1
+  run_pslam "run (second half of $log, seed $seed)" "$base.mapping" run --quiet --no-predict --seed "$seed" \
+    --log "$tmp/$log.second.clf" --trajectory "$base.mapped" || return 1
+  run_pslam "eval ($log seed $seed, localized)" "$base.rpe_localized" eval --json --trajectory "$base.localized" \
+    --relations "$tmp/$log.relations" || return 1
+  run_pslam "eval ($log seed $seed, mapped)" "$base.rpe_mapped" eval --json --trajectory "$base.mapped" \
+    --relations "$tmp/$log.relations" || return 1
+  local cpu localized
+  cpu=$(awk '/^CPU per scan/ {print $4}' "$base.localize.out")
+  localized=$(awk '/^localized/ {for (i = 1; i <= NF; ++i) if ($i == "%") print $(i - 1)}' "$base.localize.out")
+  echo "$(json_field trans_mean_m "$base.rpe_localized.out") $(json_field rot_mean_deg "$base.rpe_localized.out")" \
+    "$(json_field trans_mean_m "$base.rpe_mapped.out") $(json_field rot_mean_deg "$base.rpe_mapped.out")" \
+    "${cpu:-?} ${localized:-0}" >"$base.row"
+  echo "localize_bench: $log seed $seed done:" "$(awk '{printf "localized %.4f m, mapped %.4f m", $1, $3}' "$base.row")" >&2
+}
+
+# Each run in its own process group (set -m), so that stopping the script stops whole runs.
+set -m
+pids=()
+stop_runs() {
+  local pid
+  for pid in "${pids[@]}"; do kill -- "-$pid" 2>/dev/null || true; done
+  wait 2>/dev/null || true
+}
+trap 'stop_runs; echo "localize_bench: interrupted" >&2; exit 130' INT TERM
+running=0
+# Runs "$@" in the background, at most $jobs at once.
+spawn() {
+  if (( running >= jobs )); then
+    wait -n || { stop_runs; die "a run failed (see above); files in $tmp"; }
+    running=$((running - 1))
+  fi
+  "$@" &
+  pids+=($!)
+  running=$((running + 1))
+}
+drain() {
+  while (( running > 0 )); do
+    wait -n || { stop_runs; die "a run failed (see above); files in $tmp"; }
+    running=$((running - 1))
+  done
+}
+
+for log in "${logs[@]}"; do spawn prepare "$log"; done
+drain
+for log in "${logs[@]}"; do
+  for seed in "${seeds[@]}"; do spawn run_one "$log" "$seed"; done
+done
+drain
+
+echo "pslam localize${sets[*]:+ ${sets[*]}} on second halves at $(git rev-parse --short HEAD 2>/dev/null || echo '?')$(git diff --quiet HEAD 2>/dev/null || echo '+changes')"
+echo
+for log in "${logs[@]}"; do
+  for seed in "${seeds[@]}"; do echo "$log $seed $(cat "$tmp/$log.$seed.row")"; done
+done | awk '
+  BEGIN {
+    print "| log | seed | localizing: RPE translation (m) / rotation (deg) | mapping the second half alone | localizing / mapping | CPU per scan localizing (ms) | scans localized (%) |"
+    print "| --- | --- | --- | --- | --- | --- | --- |"
+  }
+  function summary(name) {
+    printf "| %s | mean of %d | %.4f / %.3f | %.4f / %.3f | x%.2f | %.2f | %.0f |\n", name, n, lt / n, lr / n, mt / n, mr / n,
+           lt / mt, c / n, p / n
+    printf "| %s | worse than mapping | %d of %d | | | | |\n", name, worse, n
+  }
+  $1 != name && n { summary(name); n = 0 }
+  {
+    name = $1
+    if (n++ == 0) lt = lr = mt = mr = c = p = worse = 0
+    lt += $3; lr += $4; mt += $5; mr += $6; c += $7; p += $8
+    if ($3 > $5) worse++
+    printf "| %s | %s | %.4f / %.3f | %.4f / %.3f | x%.2f | %s | %s |\n", $1, $2, $3, $4, $5, $6, $3 / $5, $7, $8
+  }
+  END { if (n) summary(name) }
+'
