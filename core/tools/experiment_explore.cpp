@@ -42,7 +42,8 @@ constexpr const char* kUsage =
     "  Time saved is measured at equal coverage: both runs are timed to the share of the reachable free\n"
     "  area that full coverage mapped, less --coverage-tolerance (0.02); a skip run that never gets\n"
     "  there saves 0. Pairs where a run hit --time-limit, or full coverage ended below 90 % of the\n"
-    "  reachable area, are listed but left out of the time figures.\n";
+    "  reachable area, are listed but left out of the time figures. Without --time-limit each world\n"
+    "  gets 8 simulated seconds per m^2 of its free area, at least 2400 s.\n";
 
 struct ExploreRow {
   std::string name;
@@ -171,12 +172,14 @@ struct ExplorePair {
   // With --library: 'skip' used the library, and this run did not.
   std::optional<ExploreRow> skip_alone;
   EqualCoverageSaving saving_alone;
+  double time_limit_s = 0.0;
   bool time_limit = false;  // either run hit the time limit: listed, never averaged as finished
   // Full coverage ended short of kCompleteCoverage (it gave its targets up): nothing to time against.
   bool full_incomplete = false;
 };
 
 constexpr double kCompleteCoverage = 0.9;
+
 
 void PrintPairHeader() {
   std::printf("%-28s %4s %8s %8s %9s %9s %8s %8s %8s  %s\n", "world", "seed", "full_s", "skip_s", "cov_full",
@@ -222,6 +225,7 @@ MapLibrary LoadLibrary(const std::vector<std::string>& paths, const PredictorOpt
 int RunExploreExperiment(CliArgs& cli) {
   const bool help = cli.Flag("--help");
   const std::vector<WorldChoice> worlds = ChooseWorlds(cli, "maze");
+  const bool time_limit_given = cli.Value("--time-limit").has_value();
   ExplorationOptions options = ExplorationFromCli(cli, 2400.0);
   const int runs = cli.Int("--runs", 1);
   options.explore.skip_covered_fraction = cli.Double("--skip-fraction", options.explore.skip_covered_fraction);
@@ -253,17 +257,19 @@ int RunExploreExperiment(CliArgs& cli) {
       return 2;
     }
     const std::uint64_t first_seed = options.slam.filter.seed;
-    std::printf("%zu world(s), %d particles, similarity threshold %.2f, %d run(s) each, time limit %.0f s\n",
-                worlds.size(), options.slam.filter.particles, options.slam.predictor.similarity_threshold, runs,
-                options.time_limit_s);
+    const std::string limit_text =
+        time_limit_given ? std::to_string(static_cast<long>(options.time_limit_s)) + " s" : "8 s per m^2 of free area";
+    std::printf("%zu world(s), %d particles, similarity threshold %.2f, %d run(s) each, time limit %s\n", worlds.size(),
+                options.slam.filter.particles, options.slam.predictor.similarity_threshold, runs, limit_text.c_str());
     std::vector<ExplorePair> pairs;
     for (const WorldChoice& world : worlds) {
       ExplorationOptions world_options = options;
       if (!unbounded) world_options.explore.area = world.world.Extent();
+      if (!time_limit_given) world_options.time_limit_s = ExplorationTimeBudget(world.world);
       const OccupancyGrid truth = world.world.ToGrid();
       const OccupancyGrid reachable = ReachableFreeCells(world.world, world.start.translation());
-      std::printf("world %s, start (%.2f, %.2f, %.3f)\n", world.path.c_str(), world.start.x, world.start.y,
-                  world.start.theta);
+      std::printf("world %s, start (%.2f, %.2f, %.3f), time limit %.0f s\n", world.path.c_str(), world.start.x,
+                  world.start.y, world.start.theta, world_options.time_limit_s);
       for (int r = 0; r < runs; ++r) {
         ExplorationOptions seeded = world_options;
         seeded.slam.filter.seed = seeded.simulator.seed = first_seed + static_cast<std::uint64_t>(r);
@@ -287,6 +293,7 @@ int RunExploreExperiment(CliArgs& cli) {
         pair.skip = RunOne(library.empty() ? skip_name : skip_name + ", library", world, truth, reachable, skip,
                            progress, prefix.empty() ? "" : prefix + "_skip");
         pair.saving = CompareAtEqualCoverage(pair.full.coverage, pair.skip.coverage, tolerance);
+        pair.time_limit_s = world_options.time_limit_s;
         pair.time_limit = pair.full.summary.state == ExplorationState::kTimeLimit ||
                           pair.skip.summary.state == ExplorationState::kTimeLimit;
         pair.full_incomplete = pair.full.mapped_or_predicted < kCompleteCoverage;
@@ -389,6 +396,7 @@ int RunExploreExperiment(CliArgs& cli) {
                                    {"skip_time_to_equal_s", JsonNumber(p.saving.skip_time_s)},
                                    {"skip_reached_equal_coverage", p.saving.skip_reached ? "true" : "false"},
                                    {"saved_fraction", JsonNumber(p.saving.saved_fraction)},
+                                   {"time_limit_s", JsonNumber(p.time_limit_s)},
                                    {"time_limit_hit", p.time_limit ? "true" : "false"},
                                    {"full_incomplete", p.full_incomplete ? "true" : "false"},
                                    {"skip_without_library", p.skip_alone ? RowJson(*p.skip_alone) : "null"},
@@ -414,7 +422,7 @@ int RunExploreExperiment(CliArgs& cli) {
                                    for (const std::string& path : library_paths) names.push_back(JsonString(path));
                                    return names;
                                  }())},
-                                {"time_limit_s", JsonNumber(options.time_limit_s)},
+                                {"time_limit_s", time_limit_given ? JsonNumber(options.time_limit_s) : "null"},
                                 {"coverage_tolerance", JsonNumber(tolerance)},
                                 {"time_limit_pairs", JsonNumber(time_limit_pairs)},
                                 {"full_incomplete_pairs", JsonNumber(incomplete_pairs)},

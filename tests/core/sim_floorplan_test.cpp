@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "pslam/experiment/exploration_run.hpp"
 #include "pslam/explore/distance_transform.hpp"
 #include "pslam/explore/path_planner.hpp"
 #include "pslam/sim/diff_drive.hpp"
@@ -123,6 +124,16 @@ TEST(SimFloorPlanTest, CliWritesTheGeneratedWorldAndRefusesAnUnknownFamily) {
   EXPECT_EQ(RunCli("worlds generate --family castle --seed 1 --out " + (dir / "c").string()), 2);
   EXPECT_FALSE(std::filesystem::exists(dir / "c.yaml"));
   EXPECT_EQ(RunCli("experiment explore --generated castle --count 2"), 2);
+}
+
+TEST(SimFloorPlanTest, ExplorationTimeBudgetGrowsWithTheFreeArea) {
+  // 8 s per m² of free floor, at least 2400 s: a large hotel gets the time its rooms take.
+  const FloorPlan hotel = GenerateFloorPlan(FloorPlanFamily::kHotel, 24);
+  const double free_m2 = static_cast<double>(hotel.world.Count(WorldCell::kFree)) * 0.05 * 0.05;
+  EXPECT_GT(free_m2, 1000.0);
+  EXPECT_NEAR(ExplorationTimeBudget(hotel.world), 8.0 * free_m2, 1e-6);
+  World small(0.05, CellBox{{0, 0}, {99, 99}}, WorldCell::kFree);  // 25 m²
+  EXPECT_EQ(ExplorationTimeBudget(small), 2400.0);
 }
 
 TEST(SimFloorPlanTest, FamilyNamesRoundTrip) {

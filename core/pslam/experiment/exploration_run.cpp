@@ -39,6 +39,11 @@ ExplorationOptions DefaultExplorationOptions() {
   return options;
 }
 
+double ExplorationTimeBudget(const World& world) {
+  const double free_m2 = static_cast<double>(world.Count(WorldCell::kFree)) * world.resolution() * world.resolution();
+  return std::max(2400.0, 8.0 * free_m2);
+}
+
 const char* ExplorationStateName(ExplorationState state) {
   switch (state) {
     case ExplorationState::kRunning: return "running";

@@ -79,6 +79,11 @@ struct ExplorationOptions {
 // close long corridors.
 ExplorationOptions DefaultExplorationOptions();
 
+// A time limit that lets full coverage of 'world' finish: 8 simulated seconds per m² of its free
+// area, at least 2400 s. The most furnished floors took 5.0-5.6 s per m² at the paper's 0.2 m/s
+// (docs/experiments.md); a fixed limit ends large worlds unfinished for want of time.
+double ExplorationTimeBudget(const World& world);
+
 enum class ExplorationState {
   kRunning,
   kExplored,    // no frontier left that is reachable, not blacklisted and (skip mode) not covered
