@@ -80,7 +80,7 @@ struct ExplorationOptions {
 ExplorationOptions DefaultExplorationOptions();
 
 // A time limit that lets full coverage of 'world' finish: 8 simulated seconds per m² of its free
-// area, at least 2400 s. The most furnished floors took 5.0-5.6 s per m² at the paper's 0.2 m/s
+// area, at least 2400 s. The most furnished floors took up to 5.7 s per m² at the paper's 0.2 m/s
 // (docs/experiments.md); a fixed limit ends large worlds unfinished for want of time.
 double ExplorationTimeBudget(const World& world);
 
