@@ -180,7 +180,6 @@ struct ExplorePair {
 
 constexpr double kCompleteCoverage = 0.9;
 
-
 void PrintPairHeader() {
   std::printf("%-28s %4s %8s %8s %9s %9s %8s %8s %8s  %s\n", "world", "seed", "full_s", "skip_s", "cov_full",
               "cov_skip", "equal_at", "saved", "merged", "flags");

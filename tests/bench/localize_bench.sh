@@ -4,7 +4,7 @@
 # half mapped (`pslam run --no-predict`, seed 1), and the second half localized on that map from
 # the first half's last pose (`pslam localize`), once per seed. Both are scored on the relations
 # whose two stamps lie in the second half, against mapping the second half alone at the same seed:
-# the bar is that localizing is no worse than mapping. Prints one markdown table.
+# a localizer on a good map should do no worse than mapping. Prints one markdown table.
 #
 # Usage: tests/bench/localize_bench.sh [--seeds LIST] [--logs NAME,...] [--jobs J]
 #                                      [--set NAME=VALUE]... [--data DIR] [--keep DIR]
