@@ -17,6 +17,7 @@
 # PSLAM_BIN=PATH runs that pslam binary instead of build/bin/pslam.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+source tests/bench/log_runs.sh
 
 usage() {
   sed -n '/^# Usage:/,/^#   --keep/p' "$0" | sed 's/^# \{0,1\}//' >&2
@@ -48,34 +49,8 @@ while (( $# )); do
 done
 [[ $jobs =~ ^[1-9][0-9]*$ ]] || die "--jobs must be a positive integer, got '$jobs'"
 
-seeds=()
-IFS=, read -ra parts <<<"$seed_list"
-for part in "${parts[@]}"; do
-  if [[ $part =~ ^([0-9]+)-([0-9]+)$ ]]; then
-    mapfile -t -O "${#seeds[@]}" seeds < <(seq "${BASH_REMATCH[1]}" "${BASH_REMATCH[2]}")
-  elif [[ $part =~ ^[0-9]+$ ]]; then
-    seeds+=("$part")
-  else
-    die "--seeds: expected numbers and ranges like 1-5,9, got '$seed_list'"
-  fi
-done
-(( ${#seeds[@]} )) || die "--seeds gives no seed: '$seed_list'"
-
-[[ -d $data ]] || die "no data folder $data (set --data or PSLAM_DATA_DIR)"
-logs=()
-if [[ -n $log_list ]]; then
-  IFS=, read -ra logs <<<"$log_list"
-else
-  for dir in "$data"/*/; do
-    name=$(basename "$dir")
-    [[ -f $dir/$name.clf && -f $dir/$name.relations ]] && logs+=("$name")
-  done
-fi
-(( ${#logs[@]} )) || die "no log in $data (a log is NAME/NAME.clf with NAME/NAME.relations)"
-for log in "${logs[@]}"; do
-  [[ -f $data/$log/$log.clf && -f $data/$log/$log.relations ]] ||
-    die "log '$log' needs $data/$log/$log.clf and $data/$log/$log.relations"
-done
+parse_seeds "$seed_list"
+find_logs "$data" "$log_list"
 
 pslam=${PSLAM_BIN:-build/bin/pslam}
 [[ -x $pslam ]] || die "$pslam not found: build it with 'cmake --build build --target pslam'"
@@ -87,8 +62,6 @@ else
   tmp=$(mktemp -d)
   trap 'rm -rf "$tmp"' EXIT
 fi
-
-json_field() { grep -o "\"$1\": *[-0-9.eE+naif]*" "$2" | awk -F': *' '{print $2}'; }
 
 # Runs a pslam command, its output to $2.out and errors to $2.err; on failure names it and stops.
 run_pslam() {
@@ -143,33 +116,7 @@ run_one() {
   echo "localize_bench: $log seed $seed done:" "$(awk '{printf "localized %.4f m, mapped %.4f m", $1, $3}' "$base.row")" >&2
 }
 
-# Each run in its own process group (set -m), so that stopping the script stops whole runs.
-set -m
-pids=()
-stop_runs() {
-  local pid
-  for pid in "${pids[@]}"; do kill -- "-$pid" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-}
 trap 'stop_runs; echo "localize_bench: interrupted" >&2; exit 130' INT TERM
-running=0
-# Runs "$@" in the background, at most $jobs at once.
-spawn() {
-  if (( running >= jobs )); then
-    wait -n || { stop_runs; die "a run failed (see above); files in $tmp"; }
-    running=$((running - 1))
-  fi
-  "$@" &
-  pids+=($!)
-  running=$((running + 1))
-}
-drain() {
-  while (( running > 0 )); do
-    wait -n || { stop_runs; die "a run failed (see above); files in $tmp"; }
-    running=$((running - 1))
-  done
-}
-
 for log in "${logs[@]}"; do spawn prepare "$log"; done
 drain
 for log in "${logs[@]}"; do
@@ -177,7 +124,7 @@ for log in "${logs[@]}"; do
 done
 drain
 
-echo "pslam localize${sets[*]:+ ${sets[*]}} on second halves at $(git rev-parse --short HEAD 2>/dev/null || echo '?')$(git diff --quiet HEAD 2>/dev/null || echo '+changes')"
+echo "pslam localize${sets[*]:+ ${sets[*]}} on second halves at $(measured_revision)"
 echo
 for log in "${logs[@]}"; do
   for seed in "${seeds[@]}"; do echo "$log $seed $(cat "$tmp/$log.$seed.row")"; done

@@ -22,6 +22,7 @@
 # names the one that failed, keeps its intermediate files and exits with status 1.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+source tests/bench/log_runs.sh
 
 usage() {
   sed -n '/^# Usage:/,/^#   --data/p' "$0" | sed 's/^# \{0,1\}//' >&2
@@ -56,34 +57,8 @@ done
 [[ $particles =~ ^[1-9][0-9]*$ ]] || die "--particles must be a positive integer, got '$particles'"
 [[ $jobs =~ ^[1-9][0-9]*$ ]] || die "--jobs must be a positive integer, got '$jobs'"
 
-seeds=()
-IFS=, read -ra parts <<<"$seed_list"
-for part in "${parts[@]}"; do
-  if [[ $part =~ ^([0-9]+)-([0-9]+)$ ]]; then
-    mapfile -t -O "${#seeds[@]}" seeds < <(seq "${BASH_REMATCH[1]}" "${BASH_REMATCH[2]}")
-  elif [[ $part =~ ^[0-9]+$ ]]; then
-    seeds+=("$part")
-  else
-    die "--seeds: expected numbers and ranges like 1-5,9, got '$seed_list'"
-  fi
-done
-(( ${#seeds[@]} )) || die "--seeds gives no seed: '$seed_list'"
-
-[[ -d $data ]] || die "no data folder $data (set --data or PSLAM_DATA_DIR)"
-logs=()
-if [[ -n $log_list ]]; then
-  IFS=, read -ra logs <<<"$log_list"
-else
-  for dir in "$data"/*/; do
-    name=$(basename "$dir")
-    [[ -f $dir/$name.clf && -f $dir/$name.relations ]] && logs+=("$name")
-  done
-fi
-(( ${#logs[@]} )) || die "no log in $data (a log is NAME/NAME.clf with NAME/NAME.relations)"
-for log in "${logs[@]}"; do
-  [[ -f $data/$log/$log.clf && -f $data/$log/$log.relations ]] ||
-    die "log '$log' needs $data/$log/$log.clf and $data/$log/$log.relations"
-done
+parse_seeds "$seed_list"
+find_logs "$data" "$log_list"
 
 pslam=${PSLAM_BIN:-build/bin/pslam}  # another build's binary, to compare two builds
 [[ -x $pslam ]] || die "$pslam not found: build it with 'cmake --build build --target pslam'"
@@ -93,8 +68,6 @@ timer=()
 
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-
-json_field() { grep -o "\"$1\": *[-0-9.eE+naif]*" "$2" | awk -F': *' '{print $2}'; }
 
 # Names the step that failed and shows the start of its error output.
 report_failure() {
@@ -127,42 +100,19 @@ run_one() {
   echo "logs_bench: $log seed $seed done:" "$(awk '{printf "%.4f m, %.3f deg", $1, $2}' "$base.row"), ${wall:-?} s" >&2
 }
 
-# Each run in its own process group (set -m), so that stopping the script stops whole runs.
-set -m
-pids=()
-stop_runs() {
-  local pid
-  for pid in "${pids[@]}"; do kill -- "-$pid" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-}
-fail() {
-  stop_runs
-  trap - EXIT
-  die "$1; intermediate files kept in $tmp"
-}
 trap 'stop_runs; echo "logs_bench: interrupted" >&2; exit 130' INT TERM
 
 describe="pslam run ${mode[*]:-(with predictions)} --particles $particles${sets[*]:+ ${sets[*]}}"
 echo "logs_bench: $describe on ${#logs[@]} log(s) x ${#seeds[@]} seed(s), $jobs at once" >&2
-running=0
 for log in "${logs[@]}"; do
   for seed in "${seeds[@]}"; do
-    if (( running >= jobs )); then
-      wait -n || fail "a run failed (see above)"
-      running=$((running - 1))
-    fi
     echo "logs_bench: $log seed $seed ..." >&2
-    run_one "$log" "$seed" &
-    pids+=($!)
-    running=$((running + 1))
+    spawn run_one "$log" "$seed"
   done
 done
-while (( running > 0 )); do
-  wait -n || fail "a run failed (see above)"
-  running=$((running - 1))
-done
+drain
 
-echo "$describe at $(git rev-parse --short HEAD 2>/dev/null || echo '?')$(git diff --quiet HEAD 2>/dev/null || echo '+changes')"
+echo "$describe at $(measured_revision)"
 echo
 for log in "${logs[@]}"; do
   for seed in "${seeds[@]}"; do echo "$log $seed $(cat "$tmp/$log.$seed.row")"; done
