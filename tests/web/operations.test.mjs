@@ -3,11 +3,12 @@
 // clean session (the first closed, no jump in either trajectory), a log replay starts from the
 // replay directory's file list, and the agent names each target once.
 //
-// The exploration runs in the maze (25 m x 25 m) at PSLAM_EXPLORE_RATE (4) times real time;
-// PSLAM_EXPLORE_WORLD=office runs the full office instead (about four times the floor; slow).
+// The exploration runs in a small world this test draws (14 m x 9 m: a loop around two rooms) at
+// PSLAM_EXPLORE_RATE (8) times real time; PSLAM_EXPLORE_WORLD=maze (or office, irregular) runs a
+// shipped world instead (the maze takes about three minutes).
 import assert from 'node:assert/strict';
 import { copyFileSync, existsSync, mkdirSync, readFileSync, writeFileSync } from 'node:fs';
-import { join } from 'node:path';
+import { dirname, join } from 'node:path';
 import { after, before, describe, it } from 'node:test';
 import {
   agentBinary,
@@ -25,9 +26,8 @@ import {
 
 const missing = [serverBinary, agentBinary, join(distDir, 'index.html')].filter((f) => !existsSync(f));
 const skip = missing.length ? `missing ${missing.join(', ')} (build the project and web/ first)` : false;
-const world = process.env.PSLAM_EXPLORE_WORLD ?? 'maze';
-// Simulated seconds per wall second: at 8 the server keeps up on two cores and the maze is explored
-// in about two minutes.
+const world = process.env.PSLAM_EXPLORE_WORLD ?? 'small';
+// Simulated seconds per wall second: at 8 the server keeps up on two cores.
 const rate = process.env.PSLAM_EXPLORE_RATE ?? '8';
 const intelLog = join(repoRoot, '..', 'shared', 'data', 'intel', 'intel.clf');
 
@@ -37,14 +37,41 @@ async function getJson(url, init) {
   return res.json();
 }
 
-// The free area (m²) the robot can reach in a shipped world: free pixels of its image connected
+// Writes the small world into DIR as map_server files and returns the YAML's path: 14 m x 9 m
+// inside 0.15 m walls, and a 8 m x 3 m block in the middle holding two rooms, each with a 1 m door
+// onto the loop around it.
+function writeSmallWorld(dir) {
+  const resolution = 0.05, width = 296, height = 196;  // the interior starts 0.2 m in
+  const pixels = new Uint8Array(width * height);  // 0: wall
+  const fill = (x0, y0, x1, y1, value) => {  // metres, interior frame
+    for (let y = Math.round((y0 + 0.2) / resolution); y < Math.round((y1 + 0.2) / resolution); y++) {
+      for (let x = Math.round((x0 + 0.2) / resolution); x < Math.round((x1 + 0.2) / resolution); x++) {
+        pixels[(height - 1 - y) * width + x] = value;
+      }
+    }
+  };
+  fill(0, 0, 14, 9, 254);
+  fill(3, 3, 11, 6, 0);
+  fill(3.15, 3.15, 6.925, 5.85, 254);
+  fill(7.075, 3.15, 10.85, 5.85, 254);
+  fill(4.5, 3, 5.5, 3.15, 254);
+  fill(8.5, 3, 9.5, 3.15, 254);
+  writeFileSync(join(dir, 'small.pgm'), Buffer.concat([Buffer.from(`P5\n${width} ${height}\n255\n`), pixels]));
+  const yaml = join(dir, 'small.yaml');
+  writeFileSync(yaml, ['image: small.pgm', `resolution: ${resolution}`, 'origin: [-0.2, -0.2, 0.0]', 'negate: 0',
+    'occupied_thresh: 0.65', 'free_thresh: 0.196', 'mode: trinary', '# world: a loop around two rooms, 14 m x 9 m',
+    '# start: 1.5, 1.5, 0', ''].join('\n'));
+  return yaml;
+}
+
+// The free area (m²) the robot can reach in a world: free pixels of its image connected
 // (4-neighbours) to the start pose named in its YAML.
-function reachableFreeArea(name) {
-  const yaml = readFileSync(join(repoRoot, 'core', 'worlds', `${name}.yaml`), 'utf8');
+function reachableFreeArea(yamlPath) {
+  const yaml = readFileSync(yamlPath, 'utf8');
   const resolution = Number(/resolution:\s*([\d.]+)/.exec(yaml)[1]);
   const origin = /origin:\s*\[\s*([-\d.]+),\s*([-\d.]+)/.exec(yaml).slice(1).map(Number);
   const start = /#\s*start:\s*([-\d.]+),\s*([-\d.]+)/.exec(yaml).slice(1).map(Number);
-  const pgm = readFileSync(join(repoRoot, 'core', 'worlds', `${name}.pgm`));
+  const pgm = readFileSync(join(dirname(yamlPath), /image:\s*(\S+)/.exec(yaml)[1]));
   // Header: P5, comments, width height, maxval, then one byte per pixel, top row first.
   const fields = [];
   let i = 0;
@@ -190,7 +217,8 @@ describe('the main job, as an operator runs it', { skip }, () => {
   });
 
   it('explores the world to the end and says so, with the area mapped', { timeout: 40 * 60 * 1000 }, async () => {
-    const agent = startAgent({ port: server.port, spoolDir: join(dir, 'spool-explore'), source: `sim:${world}`, name: 'explore',
+    const worldYaml = world === 'small' ? writeSmallWorld(dir) : join(repoRoot, 'core', 'worlds', `${world}.yaml`);
+    const agent = startAgent({ port: server.port, spoolDir: join(dir, 'spool-explore'), source: `sim:${worldYaml}`, name: 'explore',
       extraArgs: ['--rate', rate] });
     agents.push(agent);
     const id = await waitFor('the exploring session', async () => {
@@ -204,7 +232,7 @@ describe('the main job, as an operator runs it', { skip }, () => {
       return s.exploration === 'complete' && s;
     }, { timeoutMs: 38 * 60 * 1000, intervalMs: 2000 });
 
-    const reachable = reachableFreeArea(world);
+    const reachable = reachableFreeArea(worldYaml);
     const share = stats.mapped_m2 / reachable;
     console.log(`${world}: ${stats.mapped_m2.toFixed(0)} m² mapped of ${reachable.toFixed(0)} m² reachable (${(100 * share).toFixed(1)} %), ` +
       `${stats.predicted_m2.toFixed(0)} m² predicted and not mapped, ${stats.scans} scans`);
