@@ -4,7 +4,10 @@
 # half mapped (`pslam run --no-predict`, seed 1), and the second half localized on that map from
 # the first half's last pose (`pslam localize`), once per seed. Both are scored on the relations
 # whose two stamps lie in the second half, against mapping the second half alone at the same seed:
-# a localizer on a good map should do no worse than mapping. Prints one markdown table.
+# a localizer on a good map should do no worse than mapping. Two more runs per seed tell the
+# localizer's error from its map's: localizing on the map of the whole log (mapped at seed 1, so
+# it holds what the second half sees), and extending the first half's map (`pslam run
+# --prior-map`, which maps what it lacks). Prints one markdown table.
 #
 # Usage: tests/bench/localize_bench.sh [--seeds LIST] [--logs NAME,...] [--jobs J]
 #                                      [--set NAME=VALUE]... [--data DIR] [--keep DIR]
@@ -90,29 +93,45 @@ prepare() {
   [[ -s $base.relations ]] || die "$log: no relation lies in the second half"
   run_pslam "run (first half of $log)" "$base.map" run --quiet --no-predict --seed 1 --log "$base.first.clf" \
     --map "$base.first" --trajectory "$base.first.trajectory"
+  run_pslam "run (whole $log)" "$base.whole_map" run --quiet --no-predict --seed 1 --log "$data/$log/$log.clf" \
+    --map "$base.whole" --trajectory "$base.whole.trajectory"
+  echo "$mid" >"$base.mid"
   echo "localize_bench: $log cut at $mid s; first half mapped, $(wc -l <"$base.relations") relations in the second" >&2
 }
 
-# Localizes and maps the second half of LOG at SEED; leaves
-# "loc_trans loc_rot map_trans map_rot cpu_ms localized_percent" in $tmp/LOG.SEED.row.
+# Scores TRAJECTORY on LOG's second-half relations; prints "translation_m rotation_deg".
+score() {
+  local log=$1 trajectory=$2 base=$3
+  run_pslam "eval ($trajectory)" "$base" eval --json --trajectory "$trajectory" --relations "$tmp/$log.relations" || return 1
+  echo "$(json_field trans_mean_m "$base.out") $(json_field rot_mean_deg "$base.out")"
+}
+
+# Localizes the second half of LOG at SEED on the first half's map and on the whole log's, extends
+# the first half's map with it and maps it alone; leaves "loc_trans loc_rot map_trans map_rot cpu_ms
+# localized_percent whole_loc_trans extend_trans" in $tmp/LOG.SEED.row.
 run_one() {
   local log=$1 seed=$2 base=$tmp/$log.$seed
-  local pose
+  local pose whole_pose
   pose=$(awk '!/^#/ {p = $2 "," $3 "," $4} END {print p}' "$tmp/$log.first.trajectory")
+  whole_pose=$(awk -v mid="$(cat "$tmp/$log.mid")" '!/^#/ && $1 + 0 < mid {p = $2 "," $3 "," $4} END {print p}' \
+    "$tmp/$log.whole.trajectory")
   run_pslam "localize ($log seed $seed)" "$base.localize" localize --map "$tmp/$log.first.yaml" \
     --log "$tmp/$log.second.clf" --initial-pose "$pose" --seed "$seed" --trajectory "$base.localized" "${sets[@]}" || return 1
+  run_pslam "localize on the whole map ($log seed $seed)" "$base.localize_whole" localize --map "$tmp/$log.whole.yaml" \
+    --log "$tmp/$log.second.clf" --initial-pose "$whole_pose" --seed "$seed" --trajectory "$base.localized_whole" \
+    "${sets[@]}" || return 1
+  run_pslam "run --prior-map ($log seed $seed)" "$base.extend" run --quiet --no-predict --seed "$seed" \
+    --log "$tmp/$log.second.clf" --prior-map "$tmp/$log.first.yaml" --initial-pose "$pose" --trajectory "$base.extended" || return 1
   run_pslam "run (second half of $log, seed $seed)" "$base.mapping" run --quiet --no-predict --seed "$seed" \
     --log "$tmp/$log.second.clf" --trajectory "$base.mapped" || return 1
-  run_pslam "eval ($log seed $seed, localized)" "$base.rpe_localized" eval --json --trajectory "$base.localized" \
-    --relations "$tmp/$log.relations" || return 1
-  run_pslam "eval ($log seed $seed, mapped)" "$base.rpe_mapped" eval --json --trajectory "$base.mapped" \
-    --relations "$tmp/$log.relations" || return 1
-  local cpu localized
+  local localized mapped whole extended cpu share
+  localized=$(score "$log" "$base.localized" "$base.rpe_localized") || return 1
+  mapped=$(score "$log" "$base.mapped" "$base.rpe_mapped") || return 1
+  whole=$(score "$log" "$base.localized_whole" "$base.rpe_localized_whole") || return 1
+  extended=$(score "$log" "$base.extended" "$base.rpe_extended") || return 1
   cpu=$(awk '/^CPU per scan/ {print $4}' "$base.localize.out")
-  localized=$(awk '/^localized/ {for (i = 1; i <= NF; ++i) if ($i == "%") print $(i - 1)}' "$base.localize.out")
-  echo "$(json_field trans_mean_m "$base.rpe_localized.out") $(json_field rot_mean_deg "$base.rpe_localized.out")" \
-    "$(json_field trans_mean_m "$base.rpe_mapped.out") $(json_field rot_mean_deg "$base.rpe_mapped.out")" \
-    "${cpu:-?} ${localized:-0}" >"$base.row"
+  share=$(awk '/^localized/ {for (i = 1; i <= NF; ++i) if ($i == "%") print $(i - 1)}' "$base.localize.out")
+  echo "$localized $mapped ${cpu:-?} ${share:-0} ${whole% *} ${extended% *}" >"$base.row"
   echo "localize_bench: $log seed $seed done:" "$(awk '{printf "localized %.4f m, mapped %.4f m", $1, $3}' "$base.row")" >&2
 }
 
@@ -130,21 +149,24 @@ for log in "${logs[@]}"; do
   for seed in "${seeds[@]}"; do echo "$log $seed $(cat "$tmp/$log.$seed.row")"; done
 done | awk '
   BEGIN {
-    print "| log | seed | localizing: RPE translation (m) / rotation (deg) | mapping the second half alone | localizing / mapping | CPU per scan localizing (ms) | scans localized (%) |"
-    print "| --- | --- | --- | --- | --- | --- | --- |"
+    print "| log | seed | localizing: RPE translation (m) / rotation (deg) | mapping the second half alone | localizing / mapping | CPU per scan localizing (ms) | scans localized (%) | localizing on a map of the whole log (m) | extending the map of the first half (m) |"
+    print "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
   }
   function summary(name) {
-    printf "| %s | mean of %d | %.4f / %.3f | %.4f / %.3f | x%.2f | %.2f | %.0f |\n", name, n, lt / n, lr / n, mt / n, mr / n,
-           lt / mt, c / n, p / n
-    printf "| %s | worse than mapping | %d of %d | | | | |\n", name, worse, n
+    printf "| %s | mean of %d | %.4f / %.3f | %.4f / %.3f | x%.2f | %.2f | %.0f | %.4f (x%.2f) | %.4f (x%.2f) |\n", name, n,
+           lt / n, lr / n, mt / n, mr / n, lt / mt, c / n, p / n, wt / n, wt / mt, et / n, et / mt
+    printf "| %s | worse than mapping | %d of %d | | | | | %d of %d | %d of %d |\n", name, worse, n, wworse, n, eworse, n
   }
   $1 != name && n { summary(name); n = 0 }
   {
     name = $1
-    if (n++ == 0) lt = lr = mt = mr = c = p = worse = 0
-    lt += $3; lr += $4; mt += $5; mr += $6; c += $7; p += $8
+    if (n++ == 0) lt = lr = mt = mr = c = p = wt = et = worse = wworse = eworse = 0
+    lt += $3; lr += $4; mt += $5; mr += $6; c += $7; p += $8; wt += $9; et += $10
     if ($3 > $5) worse++
-    printf "| %s | %s | %.4f / %.3f | %.4f / %.3f | x%.2f | %s | %s |\n", $1, $2, $3, $4, $5, $6, $3 / $5, $7, $8
+    if ($9 > $5) wworse++
+    if ($10 > $5) eworse++
+    printf "| %s | %s | %.4f / %.3f | %.4f / %.3f | x%.2f | %s | %s | %.4f | %.4f |\n", $1, $2, $3, $4, $5, $6, $3 / $5, $7, $8,
+           $9, $10
   }
   END { if (n) summary(name) }
 '

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # A short run of localize_bench.sh for the test suite: the first 240 s of the ACES log (its
 # relations among them), cut in two by the benchmark, at seed 1. Passes when the table has the
-# run's row and the second half, localized on the first half's map, scores within 0.1 m RPE:
-# a localizer that lost the robot, or a benchmark that scored the wrong poses, does not.
+# run's row and the second half scores within 0.1 m RPE localized on the first half's map, on the
+# whole log's map and extending the first half's: a localizer that lost the robot, or a benchmark
+# that scored the wrong poses, does not.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 data="${PSLAM_DATA_DIR:-../shared/data}"
@@ -17,4 +18,9 @@ awk -v last="$last" '$1 <= last && $2 <= last' "$data/aces/aces.relations" >"$tm
 table=$(tests/bench/localize_bench.sh --seeds 1 --data "$tmp" 2>"$tmp/progress") || { cat "$tmp/progress" >&2; exit 1; }
 echo "$table"
 row=$(grep '^| aces | 1 |' <<<"$table") || { echo "no row for aces seed 1" >&2; exit 1; }
-awk -F'|' '{split($4, rpe, "/"); if (!(rpe[1] + 0 > 0 && rpe[1] + 0 < 0.1)) {print "localized RPE " rpe[1] " m is not within 0.1 m" > "/dev/stderr"; exit 1}}' <<<"$row"
+awk -F'|' '
+  function check(what, rpe) {
+    if (!(rpe + 0 > 0 && rpe + 0 < 0.1)) {print what " RPE " rpe " m is not within 0.1 m" > "/dev/stderr"; failed = 1}
+  }
+  {split($4, rpe, "/"); check("localized", rpe[1]); check("localized on the whole map", $9); check("extended", $10)}
+  END {exit failed}' <<<"$row"
