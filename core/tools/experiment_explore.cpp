@@ -225,7 +225,7 @@ int RunExploreExperiment(CliArgs& cli) {
   const bool help = cli.Flag("--help");
   const std::vector<WorldChoice> worlds = ChooseWorlds(cli, "maze");
   const bool time_limit_given = cli.Value("--time-limit").has_value();
-  ExplorationOptions options = ExplorationFromCli(cli, 2400.0);
+  ExplorationOptions options = ExplorationFromCli(cli, kMinExplorationTimeS);
   const int runs = cli.Int("--runs", 1);
   options.explore.skip_covered_fraction = cli.Double("--skip-fraction", options.explore.skip_covered_fraction);
   options.explore.skip_radius = cli.Double("--skip-radius", options.explore.skip_radius);
@@ -257,7 +257,8 @@ int RunExploreExperiment(CliArgs& cli) {
     }
     const std::uint64_t first_seed = options.slam.filter.seed;
     const std::string limit_text =
-        time_limit_given ? std::to_string(static_cast<long>(options.time_limit_s)) + " s" : "8 s per m^2 of free area";
+        time_limit_given ? std::to_string(static_cast<long>(options.time_limit_s)) + " s"
+                         : std::to_string(static_cast<long>(kExplorationSecondsPerFreeM2)) + " s per m^2 of free area";
     std::printf("%zu world(s), %d particles, similarity threshold %.2f, %d run(s) each, time limit %s\n", worlds.size(),
                 options.slam.filter.particles, options.slam.predictor.similarity_threshold, runs, limit_text.c_str());
     std::vector<ExplorePair> pairs;

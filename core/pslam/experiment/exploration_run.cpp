@@ -41,7 +41,7 @@ ExplorationOptions DefaultExplorationOptions() {
 
 double ExplorationTimeBudget(const World& world) {
   const double free_m2 = static_cast<double>(world.Count(WorldCell::kFree)) * world.resolution() * world.resolution();
-  return std::max(2400.0, 8.0 * free_m2);
+  return std::max(kMinExplorationTimeS, kExplorationSecondsPerFreeM2 * free_m2);
 }
 
 const char* ExplorationStateName(ExplorationState state) {

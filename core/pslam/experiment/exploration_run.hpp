@@ -79,9 +79,12 @@ struct ExplorationOptions {
 // close long corridors.
 ExplorationOptions DefaultExplorationOptions();
 
-// A time limit that lets full coverage of 'world' finish: 8 simulated seconds per m² of its free
-// area, at least 2400 s. The most furnished floors took up to 5.7 s per m² at the paper's 0.2 m/s
-// (docs/experiments.md); a fixed limit ends large worlds unfinished for want of time.
+// A time limit that lets full coverage of 'world' finish: kExplorationSecondsPerFreeM2 simulated
+// seconds per m² of its free area, at least kMinExplorationTimeS. The most furnished floors took up
+// to 5.7 s per m² at the paper's 0.2 m/s (docs/experiments.md); a fixed limit ends large worlds
+// unfinished for want of time.
+inline constexpr double kExplorationSecondsPerFreeM2 = 8.0;
+inline constexpr double kMinExplorationTimeS = 2400.0;
 double ExplorationTimeBudget(const World& world);
 
 enum class ExplorationState {
