@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "pslam/grid/scan_inserter.hpp"
 #include "pslam/matching/scan_likelihood.hpp"
 #include "testing/synthetic_world.hpp"
@@ -76,6 +78,51 @@ TEST(ScanMatcherDegeneracyTest, ACorridorWithoutEndsKeepsTheGuessAlongItAndCorre
   EXPECT_NEAR(result.pose.x, start.x, 0.01) << "slid along the corridor on nothing";
   const Eigen::Matrix2d translation = result.hessian.topLeftCorner<2, 2>();
   EXPECT_LT(translation(0, 0), 0.15 * translation(1, 1)) << "the corridor should be degenerate along x";
+}
+
+// The prior toward the guess is a weight against the map: without it the match goes to the truth,
+// and the heavier it is the closer the result stays to the guess, between the two.
+TEST_F(ScanMatcherTest, ThePriorHoldsTheGuessInProportionToItsWeight) {
+  const Pose2D truth(0.4, -0.3, 0.3);
+  const ScanPoints points = ToScanPoints(testing::RenderScan(truth, walls_, truth), {});
+  const Pose2D start = truth * Pose2D(0.06, -0.04, 0.0);  // 7 cm off
+  const auto distance_to = [](const Pose2D& a, const Pose2D& b) { return std::hypot(a.x - b.x, a.y - b.y); };
+  double last_from_start = 1.0;
+  for (const double weight : {0.0, 5.0, 30.0}) {
+    ScanMatchOptions options{.coarsest_level = 1};
+    options.prior_translation_weight = weight;
+    const ScanMatchResult result = MatchScan(grid_, points.hits, start, options);
+    ASSERT_TRUE(result.converged) << weight;
+    const double from_start = distance_to(result.pose, start);
+    if (weight == 0.0) EXPECT_LT(distance_to(result.pose, truth), 0.02);
+    else EXPECT_LT(from_start, last_from_start) << "weight " << weight;
+    EXPECT_LT(distance_to(result.pose, truth), distance_to(start, truth) + 1e-9) << "weight " << weight;
+    last_from_start = from_start;
+  }
+  EXPECT_LT(last_from_start, 0.02) << "a heavy prior should all but keep the guess";
+}
+
+// Without the degeneracy guard, the prior alone keeps the guess along a corridor whose ends are out
+// of reach, and the Hessian reported for the guard is still the scan's own.
+TEST(ScanMatcherDegeneracyTest, ThePriorKeepsTheGuessAlongACorridorWithoutTheGuard) {
+  const std::vector<testing::Segment> corridor{{{-40, -1.1}, {40, -1.1}}, {{-40, 1.1}, {40, 1.1}}};
+  OccupancyGrid grid(0.05);
+  const ScanInserter inserter;
+  for (double x = -3; x <= 3; x += 1.0) {
+    const Pose2D p(x, 0, 0);
+    inserter.Insert(ToScanPoints(testing::RenderScan(p, corridor, p, 8.0), {}), p, grid);
+  }
+  const Pose2D truth(0.3, 0.2, 0.0);
+  const ScanPoints points = ToScanPoints(testing::RenderScan(truth, corridor, truth, 8.0), {});
+  const Pose2D start(0.45, 0.1, 0.0);
+  ScanMatchOptions options{.coarsest_level = 2};
+  options.prior_translation_weight = 5.0;
+  const ScanMatchResult result = MatchScan(grid, points.hits, start, options);
+  ASSERT_TRUE(result.converged);
+  EXPECT_NEAR(result.pose.x, start.x, 0.01) << "slid along the corridor on nothing";
+  EXPECT_LT(std::abs(result.pose.y - truth.y), std::abs(start.y - truth.y)) << "should correct across the corridor";
+  const Eigen::Matrix2d translation = result.hessian.topLeftCorner<2, 2>();
+  EXPECT_LT(translation(0, 0), 0.15 * translation(1, 1)) << "the reported Hessian should be the scan's alone";
 }
 
 // A beam cannot end inside a wall it had to cross first: with the free-space check an endpoint at

@@ -91,6 +91,20 @@ TEST(SettingsCodecTest, DegeneracyGuardReachesBothScanMatchesAndIsBounded) {
   EXPECT_ANY_THROW(ParseSessionSettings(nlohmann::json{{"degenerate_ratio", "high"}}, {}, limits));
 }
 
+TEST(SettingsCodecTest, OdometryPriorReachesBothScanMatchesAndIsBounded) {
+  const SettingsLimits limits;
+  const SessionSettings s = ParseSessionSettings(nlohmann::json{{"odometry_prior", 30}}, {}, limits);
+  const PSlamOptions options = ToPSlamOptions(s);
+  EXPECT_DOUBLE_EQ(options.filter.tracking_match.prior_translation_weight, 30.0);
+  EXPECT_DOUBLE_EQ(options.filter.particle_match.prior_translation_weight, 30.0);
+  EXPECT_DOUBLE_EQ(ParseSessionSettings(SessionSettingsToJson(s), {}, limits).odometry_prior, 30.0);
+  // Off by default, as in the core (pslam run).
+  EXPECT_DOUBLE_EQ(ToPSlamOptions(SessionSettings{}).filter.tracking_match.prior_translation_weight, 0.0);
+  EXPECT_ANY_THROW(ParseSessionSettings(nlohmann::json{{"odometry_prior", -1}}, {}, limits));
+  EXPECT_ANY_THROW(ParseSessionSettings(nlohmann::json{{"odometry_prior", 1e6}}, {}, limits));
+  EXPECT_ANY_THROW(ParseSessionSettings(nlohmann::json{{"odometry_prior", "strong"}}, {}, limits));
+}
+
 TEST(TileTrackerTest, ReportsWrittenTilesOnlyAndSurvivesCopies) {
   OccupancyGrid grid(0.05);
   grid.AddLogOdds(1, 1, 100, -2000, 2000);

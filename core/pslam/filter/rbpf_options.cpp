@@ -35,6 +35,10 @@ const OptionTable<RbpfOptions>& Setters() {
       {"tracking_match.max_correction_rotation", Option(&RbpfOptions::tracking_match, &ScanMatchOptions::max_correction_rotation)},
       {"tracking_match.degenerate_ratio", Option(&RbpfOptions::tracking_match, &ScanMatchOptions::degenerate_ratio)},
       {"particle_match.degenerate_ratio", Option(&RbpfOptions::particle_match, &ScanMatchOptions::degenerate_ratio)},
+      {"tracking_match.prior_translation_weight", Option(&RbpfOptions::tracking_match, &ScanMatchOptions::prior_translation_weight)},
+      {"tracking_match.prior_rotation_weight", Option(&RbpfOptions::tracking_match, &ScanMatchOptions::prior_rotation_weight)},
+      {"particle_match.prior_translation_weight", Option(&RbpfOptions::particle_match, &ScanMatchOptions::prior_translation_weight)},
+      {"particle_match.prior_rotation_weight", Option(&RbpfOptions::particle_match, &ScanMatchOptions::prior_rotation_weight)},
       {"particle_match.max_correction_translation", Option(&RbpfOptions::particle_match, &ScanMatchOptions::max_correction_translation)},
       {"particle_match.max_correction_rotation", Option(&RbpfOptions::particle_match, &ScanMatchOptions::max_correction_rotation)},
       {"particle_match.coarsest_level", Option(&RbpfOptions::particle_match, &ScanMatchOptions::coarsest_level)},
@@ -97,6 +101,11 @@ const OptionTable<RbpfOptions>& Setters() {
 void SetDegenerateRatio(RbpfOptions& options, double ratio) {
   options.tracking_match.degenerate_ratio = ratio;
   options.particle_match.degenerate_ratio = ratio;
+}
+
+void SetMatchPrior(RbpfOptions& options, double translation_weight) {
+  options.tracking_match.prior_translation_weight = translation_weight;
+  options.particle_match.prior_translation_weight = translation_weight;
 }
 
 std::string SetRbpfOption(RbpfOptions& options, const std::string& name, const std::string& value) {

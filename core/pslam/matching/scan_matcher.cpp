@@ -55,11 +55,31 @@ void RemoveDegenerateTranslation(const Eigen::Matrix3d& H, double ratio, Eigen::
   delta.head<2>() -= weak * weak.dot(delta.head<2>());
 }
 
+// Adds the prior toward 'guess' (ScanMatchOptions::prior_*_weight) to a linearization at 'pose'.
+// The Hessian it returns for the degeneracy guard stays the scan's own.
+void AddPrior(const Pose2D& pose, const Pose2D& guess, double points, const ScanMatchOptions& o, Linearization& lin) {
+  const Eigen::Vector3d w2 = points * Eigen::Vector3d(o.prior_translation_weight * o.prior_translation_weight,
+                                                      o.prior_translation_weight * o.prior_translation_weight,
+                                                      o.prior_rotation_weight * o.prior_rotation_weight);
+  const Eigen::Vector3d e(pose.x - guess.x, pose.y - guess.y, NormalizeAngle(pose.theta - guess.theta));
+  lin.H.diagonal() += w2;
+  lin.g -= w2.cwiseProduct(e);
+  lin.cost += w2.dot(e.cwiseProduct(e));
+}
+
 // Levenberg-Marquardt on one level: a step is kept only if it lowers the cost, otherwise the
 // damping grows. Bilinear occupancy is not smooth, and plain Gauss-Newton overshoots on it.
-void RefineOnLevel(const OccupancyField& field, const std::vector<Eigen::Vector2f>& points, Pose2D& pose,
-                   const ScanMatchOptions& o, Eigen::Matrix3d* hessian) {
-  Linearization lin = Linearize(field, points, pose, true);
+void RefineOnLevel(const OccupancyField& field, const std::vector<Eigen::Vector2f>& points, const Pose2D& guess,
+                   Pose2D& pose, const ScanMatchOptions& o, Eigen::Matrix3d* hessian) {
+  const bool with_prior = o.prior_translation_weight > 0.0 || o.prior_rotation_weight > 0.0;
+  const double count = static_cast<double>(points.size());
+  const auto linearize = [&](const Pose2D& at) {
+    Linearization lin = Linearize(field, points, at, true);
+    Linearization full = lin;
+    if (with_prior) AddPrior(at, guess, count, o, full);
+    return std::pair{lin, full};
+  };
+  auto [scan_only, lin] = linearize(pose);
   double lambda = o.damping;
   for (int it = 0; it < o.iterations_per_level; ++it) {
     if (lin.H.diagonal().minCoeff() <= 1e-9) break;  // no structure in view along some axis
@@ -67,12 +87,13 @@ void RefineOnLevel(const OccupancyField& field, const std::vector<Eigen::Vector2
     A.diagonal() *= 1.0 + lambda;
     Eigen::Vector3d delta = A.ldlt().solve(lin.g);
     if (!delta.allFinite()) break;
-    RemoveDegenerateTranslation(lin.H, o.degenerate_ratio, delta);
+    RemoveDegenerateTranslation(scan_only.H, o.degenerate_ratio, delta);
     const Pose2D candidate = ApplyStep(pose, delta, o);
-    Linearization next = Linearize(field, points, candidate, true);
+    auto [next_scan_only, next] = linearize(candidate);
     if (next.cost < lin.cost) {
       pose = candidate;
       lin = std::move(next);
+      scan_only = std::move(next_scan_only);
       lambda = std::max(lambda / 4.0, 1e-6);
       if (delta.head<2>().norm() < 1e-4 && std::abs(delta.z()) < 1e-4) break;
     } else {
@@ -80,7 +101,7 @@ void RefineOnLevel(const OccupancyField& field, const std::vector<Eigen::Vector2
       if (lambda > 1e3) break;
     }
   }
-  if (hessian) *hessian = lin.H;
+  if (hessian) *hessian = scan_only.H;
 }
 
 }  // namespace
@@ -109,7 +130,7 @@ ScanMatchResult MatchScan(const OccupancyGrid& grid, const std::vector<Eigen::Ve
   result.pose = initial;
   if (points.empty()) return result;
   for (int level = o.coarsest_level; level >= 0; --level) {
-    RefineOnLevel(OccupancyField(grid, level), points, result.pose, o, level == 0 ? &result.hessian : nullptr);
+    RefineOnLevel(OccupancyField(grid, level), points, initial, result.pose, o, level == 0 ? &result.hessian : nullptr);
   }
   result.score = ScoreScan(grid, points, result.pose);
   const Pose2D correction = Between(initial, result.pose);

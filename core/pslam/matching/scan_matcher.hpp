@@ -22,6 +22,14 @@ struct ScanMatchOptions {
   // J^T J is below this share of the other one are dropped, so that odometry holds that direction.
   // 0: off.
   double degenerate_ratio = 0.0;
+  // A prior pulling the pose toward the initial guess (as Cartographer's Ceres scan matcher
+  // weighs translation and rotation against occupied space): per endpoint, a shift d and a turn a
+  // cost (prior_translation_weight * d)^2 + (prior_rotation_weight * a)^2 on top of (1 - M)^2.
+  // Where the scan pins the pose down the map wins; where its cost is flat (a corridor, or a map
+  // of one scan whose cells carry little evidence yet) the guess holds instead of the slide that
+  // the coarse levels' pooling starts. 0: off.
+  double prior_translation_weight = 0.0;  // per metre
+  double prior_rotation_weight = 0.0;     // per radian
   double min_score = 0.15;           // below this mean evidence the match is not trusted
   // A match that moves the pose further than this from the initial guess has most likely locked
   // onto the wrong structure (a parallel wall, the next door): it is not trusted either.

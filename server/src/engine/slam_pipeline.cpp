@@ -73,6 +73,7 @@ PSlamOptions ToPSlamOptions(const SessionSettings& settings) {
   f.angular_update = settings.angular_update;
   f.resample_threshold = settings.resample_threshold;
   SetDegenerateRatio(f, settings.degenerate_ratio);
+  SetMatchPrior(f, settings.odometry_prior);
   f.grid.max_tile_slots = MaxTileSlots(settings);
   o.predict = settings.predict;
   o.heading_targets = !settings.plan_targets;

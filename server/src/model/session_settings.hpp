@@ -36,6 +36,10 @@ struct SessionSettings {
   // whose ends the laser does not see, the match keeps odometry instead of sliding (the core's
   // default, RbpfOptions).
   double degenerate_ratio = 0.15;
+  // Scan matching's prior toward odometry (ScanMatchOptions::prior_translation_weight), 0: off.
+  // Worth it only for wheels far better than the scan's flattest direction: the simulated robot's
+  // (30, as its explorations use); real logs' odometry lost accuracy with it.
+  double odometry_prior = 0.0;
   // The session fails ("memory limit") rather than let its maps grow past this; the engine's own
   // accounting (particle grids, shared tiles once) plus what the map's extent costs to plan on.
   int memory_limit_mb = 1024;

@@ -47,6 +47,10 @@ SessionSettings ParseSessionSettings(const nlohmann::json& json, const SessionSe
     if (*v < 0.0 || *v >= 1.0) f.Fail("degenerate_ratio", "must be in [0, 1)");
     s.degenerate_ratio = *v;
   }
+  if (auto v = f.Number("odometry_prior")) {
+    if (*v < 0.0 || *v > 1000.0) f.Fail("odometry_prior", "must be in [0, 1000]");
+    s.odometry_prior = *v;
+  }
   if (auto v = f.Integer("memory_limit_mb")) {
     if (*v < 16 || *v > limits.max_memory_mb) f.Fail("memory_limit_mb", "must be in [16, " + std::to_string(limits.max_memory_mb) + "]");
     s.memory_limit_mb = static_cast<int>(*v);
@@ -117,6 +121,7 @@ nlohmann::json SessionSettingsToJson(const SessionSettings& s) {
           {"angular_update_radians", s.angular_update},
           {"resample_threshold", s.resample_threshold},
           {"degenerate_ratio", s.degenerate_ratio},
+          {"odometry_prior", s.odometry_prior},
           {"memory_limit_mb", s.memory_limit_mb},
           {"predictor", object(s.predictor_json)},
           {"mode", s.mode},
