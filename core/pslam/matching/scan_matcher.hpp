@@ -25,9 +25,9 @@ struct ScanMatchOptions {
   // A prior pulling the pose toward the initial guess (as Cartographer's Ceres scan matcher
   // weighs translation and rotation against occupied space): per endpoint, a shift d and a turn a
   // cost (prior_translation_weight * d)^2 + (prior_rotation_weight * a)^2 on top of (1 - M)^2.
-  // Where the scan pins the pose down the map wins; where its cost is flat (a corridor, or a map
-  // of one scan whose cells carry little evidence yet) the guess holds instead of the slide that
-  // the coarse levels' pooling starts. 0: off.
+  // Where the scan's cost is flat (a corridor, or a map of a few scans whose cells carry little
+  // evidence yet) the guess holds instead of the slide that the coarse levels' pooling starts.
+  // The weight sets how far the map may pull: at 30 a match moves a centimetre or two. 0: off.
   double prior_translation_weight = 0.0;  // per metre
   double prior_rotation_weight = 0.0;     // per radian
   double min_score = 0.15;           // below this mean evidence the match is not trusted
