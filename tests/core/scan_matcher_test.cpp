@@ -56,18 +56,25 @@ TEST_F(ScanMatcherTest, LikelihoodPrefersTheTruePose) {
   EXPECT_LE(at_truth.unexplored_points, 3);
 }
 
+// A 2.2 m corridor 80 m long, mapped from seven poses along its middle: an 8 m laser sees
+// neither end.
+struct Corridor {
+  std::vector<testing::Segment> walls{{{-40, -1.1}, {40, -1.1}}, {{-40, 1.1}, {40, 1.1}}};
+  OccupancyGrid grid{0.05};
+  Corridor() {
+    const ScanInserter inserter;
+    for (double x = -3; x <= 3; x += 1.0) inserter.Insert(ScanAt(Pose2D(x, 0, 0)), Pose2D(x, 0, 0), grid);
+  }
+  ScanPoints ScanAt(const Pose2D& pose) const { return ToScanPoints(testing::RenderScan(pose, walls, pose, 8.0), {}); }
+};
+
 // In a corridor whose ends are out of the laser's reach, the scan says nothing along it. The
 // degeneracy guard keeps the guess there (odometry holds it) and still corrects across.
 TEST(ScanMatcherDegeneracyTest, ACorridorWithoutEndsKeepsTheGuessAlongItAndCorrectsAcross) {
-  const std::vector<testing::Segment> corridor{{{-40, -1.1}, {40, -1.1}}, {{-40, 1.1}, {40, 1.1}}};
-  OccupancyGrid grid(0.05);
-  const ScanInserter inserter;
-  for (double x = -3; x <= 3; x += 1.0) {
-    const Pose2D p(x, 0, 0);
-    inserter.Insert(ToScanPoints(testing::RenderScan(p, corridor, p, 8.0), {}), p, grid);
-  }
+  const Corridor corridor;
+  const OccupancyGrid& grid = corridor.grid;
   const Pose2D truth(0.3, 0.2, 0.0);
-  const ScanPoints points = ToScanPoints(testing::RenderScan(truth, corridor, truth, 8.0), {});
+  const ScanPoints points = corridor.ScanAt(truth);
   const Pose2D start(0.45, 0.1, 0.03);  // 15 cm behind along the corridor, 10 cm off across it
   ScanMatchOptions options{.coarsest_level = 2};
   options.degenerate_ratio = 0.15;
@@ -105,15 +112,10 @@ TEST_F(ScanMatcherTest, ThePriorHoldsTheGuessInProportionToItsWeight) {
 // Without the degeneracy guard, the prior alone keeps the guess along a corridor whose ends are out
 // of reach, and the Hessian reported for the guard is still the scan's own.
 TEST(ScanMatcherDegeneracyTest, ThePriorKeepsTheGuessAlongACorridorWithoutTheGuard) {
-  const std::vector<testing::Segment> corridor{{{-40, -1.1}, {40, -1.1}}, {{-40, 1.1}, {40, 1.1}}};
-  OccupancyGrid grid(0.05);
-  const ScanInserter inserter;
-  for (double x = -3; x <= 3; x += 1.0) {
-    const Pose2D p(x, 0, 0);
-    inserter.Insert(ToScanPoints(testing::RenderScan(p, corridor, p, 8.0), {}), p, grid);
-  }
+  const Corridor corridor;
+  const OccupancyGrid& grid = corridor.grid;
   const Pose2D truth(0.3, 0.2, 0.0);
-  const ScanPoints points = ToScanPoints(testing::RenderScan(truth, corridor, truth, 8.0), {});
+  const ScanPoints points = corridor.ScanAt(truth);
   const Pose2D start(0.45, 0.1, 0.0);
   ScanMatchOptions options{.coarsest_level = 2};
   options.prior_translation_weight = 5.0;

@@ -14,6 +14,7 @@ struct Linearization {
   Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
   Eigen::Vector3d g = Eigen::Vector3d::Zero();
   double cost = 0.0;  // sum of (1 - M)^2
+  Eigen::Matrix3d scan_hessian = Eigen::Matrix3d::Zero();  // H without the prior: what the scan constrains
 };
 
 Linearization Linearize(const OccupancyField& field, const std::vector<Eigen::Vector2f>& points, const Pose2D& pose,
@@ -34,6 +35,7 @@ Linearization Linearize(const OccupancyField& field, const std::vector<Eigen::Ve
     lin.H.noalias() += J * J.transpose();
     lin.g.noalias() += J * r;
   }
+  lin.scan_hessian = lin.H;
   return lin;
 }
 
@@ -55,8 +57,8 @@ void RemoveDegenerateTranslation(const Eigen::Matrix3d& H, double ratio, Eigen::
   delta.head<2>() -= weak * weak.dot(delta.head<2>());
 }
 
-// Adds the prior toward 'guess' (ScanMatchOptions::prior_*_weight) to a linearization at 'pose'.
-// The Hessian it returns for the degeneracy guard stays the scan's own.
+// Adds the prior toward 'guess' (ScanMatchOptions::prior_*_weight) to a linearization at 'pose';
+// its scan_hessian, which the degeneracy guard reads, stays the scan's own.
 void AddPrior(const Pose2D& pose, const Pose2D& guess, double points, const ScanMatchOptions& o, Linearization& lin) {
   const Eigen::Vector3d w2 = points * Eigen::Vector3d(o.prior_translation_weight * o.prior_translation_weight,
                                                       o.prior_translation_weight * o.prior_translation_weight,
@@ -75,11 +77,10 @@ void RefineOnLevel(const OccupancyField& field, const std::vector<Eigen::Vector2
   const double count = static_cast<double>(points.size());
   const auto linearize = [&](const Pose2D& at) {
     Linearization lin = Linearize(field, points, at, true);
-    Linearization full = lin;
-    if (with_prior) AddPrior(at, guess, count, o, full);
-    return std::pair{lin, full};
+    if (with_prior) AddPrior(at, guess, count, o, lin);
+    return lin;
   };
-  auto [scan_only, lin] = linearize(pose);
+  Linearization lin = linearize(pose);
   double lambda = o.damping;
   for (int it = 0; it < o.iterations_per_level; ++it) {
     if (lin.H.diagonal().minCoeff() <= 1e-9) break;  // no structure in view along some axis
@@ -87,13 +88,12 @@ void RefineOnLevel(const OccupancyField& field, const std::vector<Eigen::Vector2
     A.diagonal() *= 1.0 + lambda;
     Eigen::Vector3d delta = A.ldlt().solve(lin.g);
     if (!delta.allFinite()) break;
-    RemoveDegenerateTranslation(scan_only.H, o.degenerate_ratio, delta);
+    RemoveDegenerateTranslation(lin.scan_hessian, o.degenerate_ratio, delta);
     const Pose2D candidate = ApplyStep(pose, delta, o);
-    auto [next_scan_only, next] = linearize(candidate);
+    Linearization next = linearize(candidate);
     if (next.cost < lin.cost) {
       pose = candidate;
       lin = std::move(next);
-      scan_only = std::move(next_scan_only);
       lambda = std::max(lambda / 4.0, 1e-6);
       if (delta.head<2>().norm() < 1e-4 && std::abs(delta.z()) < 1e-4) break;
     } else {
@@ -101,7 +101,7 @@ void RefineOnLevel(const OccupancyField& field, const std::vector<Eigen::Vector2
       if (lambda > 1e3) break;
     }
   }
-  if (hessian) *hessian = scan_only.H;
+  if (hessian) *hessian = lin.scan_hessian;
 }
 
 }  // namespace
