@@ -81,6 +81,7 @@ const OptionTable<RbpfOptions>& Setters() {
       {"loop_closure.ambiguity_distance", Option(&RbpfOptions::loop_closure, &LoopClosureOptions::ambiguity_distance)},
       {"loop_closure.ambiguity_angle", Option(&RbpfOptions::loop_closure, &LoopClosureOptions::ambiguity_angle)},
       {"loop_closure.ambiguity_ratio", Option(&RbpfOptions::loop_closure, &LoopClosureOptions::ambiguity_ratio)},
+      {"loop_closure.min_rival_window", Option(&RbpfOptions::loop_closure, &LoopClosureOptions::min_rival_window)},
       {"loop_closure.odometry_sigma_xy", Option(&RbpfOptions::loop_closure, &LoopClosureOptions::odometry_sigma_xy)},
       {"loop_closure.odometry_sigma_theta", Option(&RbpfOptions::loop_closure, &LoopClosureOptions::odometry_sigma_theta)},
       {"loop_closure.loop_sigma_xy", Option(&RbpfOptions::loop_closure, &LoopClosureOptions::loop_sigma_xy)},

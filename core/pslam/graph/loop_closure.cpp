@@ -241,6 +241,7 @@ LoopCloser::Match LoopCloser::MatchAgainst(int n, int s, double graph_distance, 
   // The best pose elsewhere: if it scores nearly as well, the place repeats and the match says
   // nothing about which copy the robot is in.
   search.min_score = options_.ambiguity_ratio * best.score;
+  search.linear_window = std::max(search.linear_window, options_.min_rival_window);
   const BranchAndBoundResult alternative = MatchByBranchAndBound(grid, cloud, out.guess, search, [&](const Pose2D& p) {
     return SamePlace(p, best.pose);
   });

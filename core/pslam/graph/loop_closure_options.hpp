@@ -45,6 +45,10 @@ struct LoopClosureOptions {
   double ambiguity_distance = 0.6;     // metres
   double ambiguity_angle = 0.25;       // radians
   double ambiguity_ratio = 0.92;       // alternative score / best score
+  // Rivals are looked for at least this far (metres each way) around the guess, however narrow the
+  // window the closure itself must lie in: inside a window narrower than ambiguity_distance a
+  // match sliding along a corridor has no room for a rival and would pass as unique.
+  double min_rival_window = 1.5;
   ScanMatchOptions refine{.coarsest_level = 0, .max_correction_translation = 0.15, .max_correction_rotation = 0.1};
   // Pose graph: standard deviations of the filter's relative motion between two updates and of a
   // closure; closures carry a Huber loss and are dropped when they disagree with the optimum.
