@@ -1,0 +1,134 @@
+#!/usr/bin/env bash
+# Simulated explorations over several worlds and seeds in one table: for each world and seed, the
+# pair `pslam experiment explore` runs (the plain RBPF with full coverage, P-SLAM skipping
+# predicted regions), then per world the means and how many runs meet the targets: full coverage's
+# mean position error <= 0.3 m and built map's Psi against the true world >= 0.75, the skip run's
+# merged Psi >= 0.7, and the time saved at equal coverage.
+#
+# Usage: tests/bench/explore_bench.sh [--worlds LIST] [--seeds LIST] [--jobs J]
+#                                     [-- OPTIONS OF pslam experiment explore...]
+#   --worlds LIST  shipped worlds by name (maze, office, irregular, repetitive_office: the files
+#                  core/worlds/NAME.yaml) and generated ones as FAMILY:SEED (school:24);
+#                  default maze
+#   --seeds LIST   run seeds, e.g. 1-10 (default), 1,3,7 or 1-3,9
+#   --jobs J       pairs at once (1); each pair runs on one thread
+#   after --        passed on, e.g. -- --set tracking_match.coarsest_level=1 --time-limit 600
+# PSLAM_BIN=PATH runs that pslam binary instead of build/bin/pslam.
+# Progress goes to stderr. When a run fails, the script stops the others, names the one that
+# failed, keeps its intermediate files and exits with status 1.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+source tests/bench/log_runs.sh
+
+usage() {
+  sed -n '/^# Usage:/,/^#   after --/p' "$0" | sed 's/^# \{0,1\}//' >&2
+  exit 2
+}
+die() {
+  echo "explore_bench: $*" >&2
+  exit 1
+}
+
+world_list=maze
+seed_list=1-10
+jobs=1
+passed=()
+while (( $# )); do
+  case $1 in
+    --worlds) world_list=${2:?}; shift ;;
+    --seeds) seed_list=${2:?}; shift ;;
+    --jobs) jobs=${2:?}; shift ;;
+    --) shift; passed=("$@"); break ;;
+    -h|--help) usage ;;
+    *) echo "explore_bench: unknown option '$1'" >&2; usage ;;
+  esac
+  shift
+done
+[[ $jobs =~ ^[1-9][0-9]*$ ]] || die "--jobs must be a positive integer, got '$jobs'"
+parse_seeds "$seed_list"
+
+pslam=${PSLAM_BIN:-build/bin/pslam}
+[[ -x $pslam ]] || die "$pslam not found: build it with 'cmake --build build --target pslam'"
+
+# The `pslam experiment explore` arguments naming each world.
+IFS=, read -ra worlds <<<"$world_list"
+(( ${#worlds[@]} )) || die "--worlds names no world"
+world_args() {
+  local world=$1
+  if [[ $world =~ ^([a-z]+):([0-9]+)$ ]]; then
+    echo "--generated ${BASH_REMATCH[1]} --count 1 --first-seed ${BASH_REMATCH[2]}"
+  elif [[ -f core/worlds/$world.yaml ]]; then
+    echo "--world core/worlds/$world.yaml"
+  else
+    die "no world '$world': a shipped world is core/worlds/NAME.yaml, a generated one FAMILY:SEED"
+  fi
+}
+for world in "${worlds[@]}"; do world_args "$world" >/dev/null; done
+
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+run_one() {
+  local world=$1 seed=$2 status=0
+  local base=$tmp/${world//:/_}.$seed
+  # shellcheck disable=SC2046  # world_args gives several words on purpose
+  "$pslam" experiment explore $(world_args "$world") --runs 1 --seed "$seed" --threads 1 --quiet \
+    --json "$base.json" "${passed[@]}" >"$base.out" 2>"$base.err" || status=$?
+  if (( status != 0 )); then
+    echo "explore_bench: $world seed $seed failed (exit status $status):" >&2
+    head -n 5 "$base.err" >&2
+    return 1
+  fi
+  echo "explore_bench: $world seed $seed done" >&2
+}
+
+trap 'stop_runs; echo "explore_bench: interrupted" >&2; exit 130' INT TERM
+echo "explore_bench: ${#worlds[@]} world(s) x ${#seeds[@]} seed(s), $jobs at once" >&2
+for world in "${worlds[@]}"; do
+  for seed in "${seeds[@]}"; do spawn run_one "$world" "$seed"; done
+done
+drain
+
+echo "pslam experiment explore${passed[*]:+ ${passed[*]}} at $(measured_revision)"
+echo
+for world in "${worlds[@]}"; do
+  for seed in "${seeds[@]}"; do echo "$world $seed $tmp/${world//:/_}.$seed.json"; done
+done | python3 -c '
+import json, sys
+
+def fmt(v, pattern):
+    return "-" if v is None else pattern % v
+
+rows = {}
+print("| world | seed | full: position error, map Psi, state | skip: position error, map Psi, state | merged Psi | saved at equal coverage | flags |")
+print("| --- | --- | --- | --- | --- | --- | --- |")
+for line in sys.stdin:
+    world, seed, path = line.split()
+    pair = json.load(open(path))["pairs"][0]
+    full, skip = pair["full"], pair["skip"]
+    flags = [f for f in ("time_limit_hit", "full_incomplete") if pair[f]]
+    if not pair["skip_reached_equal_coverage"]:
+        flags.append("skip_below_equal_coverage")
+    saved = None if flags and flags != ["skip_below_equal_coverage"] else pair["saved_fraction"]
+    rows.setdefault(world, []).append((full, skip, saved))
+    print("| %s | %s | %s m, %s, %s | %s m, %s, %s | %s | %s | %s |" % (
+        world, seed, fmt(full["mean_position_error_m"], "%.3f"), fmt(full["map_psi"], "%.3f"), full["state"],
+        fmt(skip["mean_position_error_m"], "%.3f"), fmt(skip["map_psi"], "%.3f"), skip["state"],
+        fmt(skip["merged_psi"], "%.3f"), fmt(None if saved is None else 100 * saved, "%.1f %%"),
+        ", ".join(flags) or "-"))
+
+print()
+print("| world | runs | full: mean position error (worst) | full: <= 0.3 m | full: map Psi mean; >= 0.75 | merged Psi mean; >= 0.7 | saved at equal coverage, mean (pairs timed) |")
+print("| --- | --- | --- | --- | --- | --- | --- |")
+for world, runs in rows.items():
+    n = len(runs)
+    errors = [f["mean_position_error_m"] for f, _, _ in runs]
+    psis = [f["map_psi"] for f, _, _ in runs]
+    merged = [s["merged_psi"] for _, s, _ in runs if s["merged_psi"] is not None]
+    saved = [v for _, _, v in runs if v is not None]
+    print("| %s | %d | %.3f m (%.3f) | %d of %d | %.3f; %d of %d | %s | %s |" % (
+        world, n, sum(errors) / n, max(errors), sum(e <= 0.3 for e in errors), n,
+        sum(psis) / n, sum(p >= 0.75 for p in psis), n,
+        "%.3f; %d of %d" % (sum(merged) / len(merged), sum(m >= 0.7 for m in merged), len(merged)) if merged else "-",
+        "%.1f %% (%d)" % (100 * sum(saved) / len(saved), len(saved)) if saved else "-"))
+'
