@@ -20,16 +20,7 @@
 # PSLAM_BIN=PATH runs that pslam binary instead of build/bin/pslam.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-source tests/bench/log_runs.sh
-
-usage() {
-  sed -n '/^# Usage:/,/^#   --keep/p' "$0" | sed 's/^# \{0,1\}//' >&2
-  exit 2
-}
-die() {
-  echo "localize_bench: $*" >&2
-  exit 1
-}
+source tests/bench/log_runs.sh  # usage, die, seeds and parallel runs
 
 seed_list=1-3
 log_list=

@@ -1,5 +1,15 @@
-# Shared by the benchmarks over the shared data's logs (logs_bench.sh, localize_bench.sh); sourced,
-# not run. The caller defines die() and sets $tmp before it starts runs.
+# Shared by the benchmark scripts (logs_bench.sh, localize_bench.sh, explore_bench.sh); sourced, not
+# run. The caller sets $tmp before it starts runs.
+
+# The calling script's usage: its header from "# Usage:" up to the "# PSLAM_BIN" line.
+usage() {
+  sed -n '/^# Usage:/,/^# PSLAM_BIN/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//' >&2
+  exit 2
+}
+die() {
+  echo "$(basename "$0" .sh): $*" >&2
+  exit 1
+}
 
 # Fills 'seeds' from a list of numbers and ranges such as 1-5,9.
 parse_seeds() {

@@ -22,16 +22,7 @@
 # names the one that failed, keeps its intermediate files and exits with status 1.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-source tests/bench/log_runs.sh
-
-usage() {
-  sed -n '/^# Usage:/,/^#   --data/p' "$0" | sed 's/^# \{0,1\}//' >&2
-  exit 2
-}
-die() {
-  echo "logs_bench: $*" >&2
-  exit 1
-}
+source tests/bench/log_runs.sh  # usage, die, seeds and parallel runs
 
 seed_list=1-5
 particles=30
