@@ -28,6 +28,8 @@ const OptionTable<RbpfOptions>& Setters() {
       {"insert.min_probability", Option(&RbpfOptions::insert, &ScanInsertOptions::min_probability)},
       {"insert.max_probability", Option(&RbpfOptions::insert, &ScanInsertOptions::max_probability)},
       {"insert.grazing_stop", Option(&RbpfOptions::insert, &ScanInsertOptions::grazing_stop)},
+      {"tracking_match.hit_offsets", Option(&RbpfOptions::tracking_match, &ScanMatchOptions::hit_offsets)},
+      {"particle_match.hit_offsets", Option(&RbpfOptions::particle_match, &ScanMatchOptions::hit_offsets)},
       {"tracking_match.coarsest_level", Option(&RbpfOptions::tracking_match, &ScanMatchOptions::coarsest_level)},
       {"tracking_match.iterations_per_level", Option(&RbpfOptions::tracking_match, &ScanMatchOptions::iterations_per_level)},
       {"tracking_match.min_score", Option(&RbpfOptions::tracking_match, &ScanMatchOptions::min_score)},
@@ -107,6 +109,11 @@ void SetDegenerateRatio(RbpfOptions& options, double ratio) {
 void SetMatchPrior(RbpfOptions& options, double translation_weight) {
   options.tracking_match.prior_translation_weight = translation_weight;
   options.particle_match.prior_translation_weight = translation_weight;
+}
+
+void SetHitOffsets(RbpfOptions& options, bool enabled) {
+  options.tracking_match.hit_offsets = enabled;
+  options.particle_match.hit_offsets = enabled;
 }
 
 std::string SetRbpfOption(RbpfOptions& options, const std::string& name, const std::string& value) {

@@ -55,8 +55,8 @@ struct RbpfOptions {
   // corridor the match otherwise slides, and every particle with it, since each is refined onto
   // the same optimum. On ACES at 10 particles, seed 9, the estimate fell 6 m behind the robot in
   // one corridor and the map doubled it (docs/loop-closure.md).
-  ScanMatchOptions tracking_match{.coarsest_level = 3, .degenerate_ratio = 0.15};
-  ScanMatchOptions particle_match{.coarsest_level = 1, .degenerate_ratio = 0.15};
+  ScanMatchOptions tracking_match{.coarsest_level = 3, .degenerate_ratio = 0.15, .hit_offsets = true};
+  ScanMatchOptions particle_match{.coarsest_level = 1, .degenerate_ratio = 0.15, .hit_offsets = true};
   LikelihoodOptions likelihood;
   MotionNoise motion;
   // Scales the wheel odometry by what scan matching measured of it (odometry_calibration.hpp).
@@ -81,6 +81,9 @@ void SetDegenerateRatio(RbpfOptions& options, double ratio);
 // The scan matcher's prior toward odometry (ScanMatchOptions::prior_translation_weight) for both
 // the tracking and the particle matches: how far the wheels are trusted where the scan says little.
 void SetMatchPrior(RbpfOptions& options, double translation_weight);
+
+// ScanMatchOptions::hit_offsets for both the tracking and the particle matches.
+void SetHitOffsets(RbpfOptions& options, bool enabled);
 
 // Names of every option SetRbpfOption accepts, for help texts.
 std::vector<std::string> RbpfOptionNames();

@@ -102,15 +102,12 @@ bool OccupancyGrid::EnsureTileSlot(int tx, int ty) {
   return true;
 }
 
-OccupancyGrid::Cell& OccupancyGrid::MutableAt(int cx, int cy) {
+OccupancyGrid::Tile* OccupancyGrid::MutableTile(int cx, int cy) {
   const int tx = cx >> kTileBits, ty = cy >> kTileBits;
-  if (write_cache_ && write_cache_tile_.x() == tx && write_cache_tile_.y() == ty) {
-    return write_cache_->cells[Local(cx, cy)];
-  }
+  if (write_cache_ && write_cache_tile_.x() == tx && write_cache_tile_.y() == ty) return write_cache_;
   if (std::abs(cx) > max_cell_ || std::abs(cy) > max_cell_ || !EnsureTileSlot(tx, ty)) {
     ++refused_writes_;
-    scratch_ = kUnknown;
-    return scratch_;
+    return nullptr;
   }
   auto& slot = tiles_[static_cast<std::size_t>(ty - tile_origin_.y()) * tiles_w_ + (tx - tile_origin_.x())];
   if (!slot) {
@@ -125,7 +122,37 @@ OccupancyGrid::Cell& OccupancyGrid::MutableAt(int cx, int cy) {
   ++slot->revision;
   write_cache_ = slot.get();
   write_cache_tile_ = {tx, ty};
-  return slot->cells[Local(cx, cy)];
+  return write_cache_;
+}
+
+OccupancyGrid::Cell& OccupancyGrid::MutableAt(int cx, int cy) {
+  Tile* tile = MutableTile(cx, cy);
+  if (!tile) {
+    scratch_ = kUnknown;
+    return scratch_;
+  }
+  return tile->cells[Local(cx, cy)];
+}
+
+void OccupancyGrid::AddHit(int cx, int cy, const Eigen::Vector2f& in_cell, int delta, int lo, int hi) {
+  Tile* tile = MutableTile(cx, cy);
+  if (!tile) return;
+  const int i = Local(cx, cy);
+  Cell& c = tile->cells[i];
+  // The mean of every hit since the cell last turned occupied: the first hits anchor the surface,
+  // as they anchor the map, and the later ones, seen from poses that carry their own errors,
+  // refine it without dragging it along.
+  std::uint8_t& count = tile->hit_count[i];
+  if (c == kUnknown || c <= 0) count = 0;
+  c = static_cast<Cell>(std::clamp((c == kUnknown ? 0 : c) + delta, lo, hi));
+  if (count < 255) ++count;
+  const auto average = [count](std::int8_t& mean, float position) {
+    const float target = std::clamp(position, -0.5f, 0.5f) * kHitOffsetScale;
+    const float updated = mean + (target - mean) / static_cast<float>(count);
+    mean = static_cast<std::int8_t>(std::lround(std::clamp(updated, -127.0f, 127.0f)));
+  };
+  average(tile->hit_x[i], in_cell.x());
+  average(tile->hit_y[i], in_cell.y());
 }
 
 CellBox OccupancyGrid::KnownBounds() const {

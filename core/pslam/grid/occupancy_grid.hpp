@@ -44,8 +44,14 @@ class OccupancyGrid {
   static constexpr int kTileBits = 6;
   static constexpr int kTileSize = 1 << kTileBits;
   static constexpr int kTileMask = kTileSize - 1;
+  static constexpr float kHitOffsetScale = 254.0f;  // stored units per cell
   struct Tile {
     std::array<Cell, kTileSize * kTileSize> cells;
+    // Where in each cell its hits landed on average, relative to the cell's centre, in
+    // 1/kHitOffsetScale of a cell, and over how many hits (saturating): a wall that lies on a
+    // cell's edge is known to lie there, not at the centre.
+    std::array<std::int8_t, kTileSize * kTileSize> hit_x{}, hit_y{};
+    std::array<std::uint8_t, kTileSize * kTileSize> hit_count{};
     std::uint64_t revision = 0;                    // bumped by every write batch, for change tracking
   };
 
@@ -86,6 +92,17 @@ class OccupancyGrid {
     c = static_cast<Cell>(std::clamp(base + delta, lo, hi));
   }
 
+  // AddLogOdds for a hit that landed at `in_cell` (cells, from the cell's centre, each in
+  // [-0.5, 0.5]), remembering where in the cell the hits land (HitOffset).
+  void AddHit(int cx, int cy, const Eigen::Vector2f& in_cell, int delta, int lo, int hi);
+  // Where the hits of a cell landed, in cells from its centre; (0, 0) for a cell never hit.
+  Eigen::Vector2f HitOffset(int cx, int cy) const {
+    const Tile* t = TileAt(cx >> kTileBits, cy >> kTileBits);
+    if (!t) return Eigen::Vector2f::Zero();
+    const int i = Local(cx, cy);
+    return Eigen::Vector2f(t->hit_x[i], t->hit_y[i]) / kHitOffsetScale;
+  }
+
   // Returns a cell to unknown; a no-op (and no tile copy) when it is unknown already.
   void Forget(int cx, int cy) {
     if (IsKnown(cx, cy)) MutableAt(cx, cy) = kUnknown;
@@ -118,6 +135,8 @@ class OccupancyGrid {
     return f > kMaxCellIndex ? kMaxCellIndex : static_cast<int>(f);
   }
   bool EnsureTileSlot(int tx, int ty);  // false: the table may not grow to hold the tile
+  // The tile of a cell, created or un-shared for writing; nullptr beyond the limits (counted).
+  Tile* MutableTile(int cx, int cy);
 
   double resolution_;
   GridLimits limits_;

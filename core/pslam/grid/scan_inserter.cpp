@@ -64,9 +64,12 @@ void ScanInserter::Insert(const ScanPoints& points, const Pose2D& pose, Occupanc
     const float stop = grazing_stop_ ? std::min(GrazingStop(points.hits, i, beam, range, cell), range) : 0.0f;
     TraceRay(origin, grid.WorldToCell(pose * (p - beam * (stop / range)).cast<double>()), miss);
   }
+  const double per_cell = 1.0 / grid.resolution();
   for (const auto& p : points.hits) {
-    const Eigen::Vector2i end = grid.WorldToCell(pose * p.cast<double>());
-    grid.AddLogOdds(end.x(), end.y(), hit_, lo_, hi_);
+    const Eigen::Vector2d world = pose * p.cast<double>();
+    const Eigen::Vector2i end = grid.WorldToCell(world);
+    const Eigen::Vector2f in_cell = (world * per_cell - end.cast<double>()).cast<float>() - Eigen::Vector2f::Constant(0.5f);
+    grid.AddHit(end.x(), end.y(), in_cell, hit_, lo_, hi_);
     if (forget) forget->Forget(end.x(), end.y());
   }
 }

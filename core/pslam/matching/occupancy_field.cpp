@@ -24,8 +24,8 @@ float CellEvidence(OccupancyGrid::Cell c) {
   return table.v[static_cast<std::uint16_t>(c)];
 }
 
-OccupancyField::OccupancyField(const OccupancyGrid& grid, int level)
-    : grid_(grid), level_(level), cell_size_(grid.resolution() * (1 << level)) {}
+OccupancyField::OccupancyField(const OccupancyGrid& grid, int level, bool hit_offsets)
+    : grid_(grid), level_(level), hit_offsets_(hit_offsets && level == 0), cell_size_(grid.resolution() * (1 << level)) {}
 
 float OccupancyField::Coarse(int i, int j) const {
   if (level_ == 0) return CellEvidence(grid_.At(i, j));
@@ -41,19 +41,79 @@ float OccupancyField::Coarse(int i, int j) const {
   return best;
 }
 
-float OccupancyField::Value(const Eigen::Vector2f& world, Eigen::Vector2f* gradient) const {
-  // Sample positions are cell centres: shift by half a cell before splitting into index + fraction.
-  const double u = world.x() / cell_size_ - 0.5, v = world.y() / cell_size_ - 0.5;
-  const double fu0 = std::floor(u), fv0 = std::floor(v);
-  const int i = static_cast<int>(fu0), j = static_cast<int>(fv0);
-  const float fu = static_cast<float>(u - fu0), fv = static_cast<float>(v - fv0);
-  const float v00 = Coarse(i, j), v10 = Coarse(i + 1, j), v01 = Coarse(i, j + 1), v11 = Coarse(i + 1, j + 1);
-  if (gradient) {
-    const float inv = static_cast<float>(1.0 / cell_size_);
-    gradient->x() = ((1 - fv) * (v10 - v00) + fv * (v11 - v01)) * inv;
-    gradient->y() = ((1 - fu) * (v01 - v00) + fu * (v11 - v10)) * inv;
+namespace {
+// A point between the centres of four cells, (i, j), (i+1, j), (i, j+1) and (i+1, j+1): the
+// first one's indices and the point's fractions of the way to the others.
+struct Stencil {
+  int i, j;
+  float fu, fv;
+  Stencil(float x, float y, double cell_size) {
+    // Sample positions are cell centres: shift by half a cell before splitting into index + fraction.
+    const double u = x / cell_size - 0.5, v = y / cell_size - 0.5;
+    const double fu0 = std::floor(u), fv0 = std::floor(v);
+    i = static_cast<int>(fu0);
+    j = static_cast<int>(fv0);
+    fu = static_cast<float>(u - fu0);
+    fv = static_cast<float>(v - fv0);
   }
-  return (1 - fv) * ((1 - fu) * v00 + fu * v10) + fv * ((1 - fu) * v01 + fu * v11);
+  float Interpolate(const float (&c)[4], Eigen::Vector2f* gradient, float per_cell) const {
+    if (gradient) {
+      gradient->x() = ((1 - fv) * (c[1] - c[0]) + fv * (c[3] - c[2])) * per_cell;
+      gradient->y() = ((1 - fu) * (c[2] - c[0]) + fu * (c[3] - c[1])) * per_cell;
+    }
+    return (1 - fv) * ((1 - fu) * c[0] + fu * c[1]) + fv * ((1 - fu) * c[2] + fu * c[3]);
+  }
+};
+}  // namespace
+
+void OccupancyField::Corners(int i, int j, float (&value)[4], float (*offset)[2][4]) const {
+  if (level_ > 0) {
+    value[0] = Coarse(i, j), value[1] = Coarse(i + 1, j), value[2] = Coarse(i, j + 1), value[3] = Coarse(i + 1, j + 1);
+    return;
+  }
+  constexpr int kBits = OccupancyGrid::kTileBits;
+  const int tx = i >> kBits, ty = j >> kBits;
+  const int cx[4] = {i, i + 1, i, i + 1}, cy[4] = {j, j, j + 1, j + 1};
+  const bool one_tile = ((i + 1) >> kBits) == tx && ((j + 1) >> kBits) == ty;  // all but one row and column in 64
+  const OccupancyGrid::Tile* shared = one_tile ? grid_.TileAt(tx, ty) : nullptr;
+  for (int k = 0; k < 4; ++k) {
+    const OccupancyGrid::Tile* tile = one_tile ? shared : grid_.TileAt(cx[k] >> kBits, cy[k] >> kBits);
+    const int local = OccupancyGrid::Local(cx[k], cy[k]);
+    value[k] = tile ? CellEvidence(tile->cells[local]) : 0.0f;
+    if (offset) {
+      (*offset)[0][k] = tile ? tile->hit_x[local] : 0.0f;
+      (*offset)[1][k] = tile ? tile->hit_y[local] : 0.0f;
+    }
+  }
+}
+
+float OccupancyField::Value(const Eigen::Vector2f& world, Eigen::Vector2f* gradient) const {
+  const float per_cell = static_cast<float>(1.0 / cell_size_);
+  const Stencil at(world.x(), world.y(), cell_size_);
+  float value[4];
+  float offset[2][4];
+  Corners(at.i, at.j, value, hit_offsets_ ? &offset : nullptr);
+  if (!hit_offsets_) return at.Interpolate(value, gradient, per_cell);
+  // A wall whose surface lies on a cell's edge is drawn by its hits near that edge: read the field
+  // shifted by where the hits around the point landed (weighted by each cell's share of the
+  // evidence there), so that the evidence peaks on the surface instead of half a cell behind it.
+  const float w[4] = {(1 - at.fu) * (1 - at.fv) * value[0], at.fu * (1 - at.fv) * value[1],
+                      (1 - at.fu) * at.fv * value[2], at.fu * at.fv * value[3]};
+  const float total = w[0] + w[1] + w[2] + w[3];
+  if (total <= 0.0f) return at.Interpolate(value, gradient, per_cell);
+  const float to_cells = 1.0f / (total * OccupancyGrid::kHitOffsetScale);
+  const float shift_u = (w[0] * offset[0][0] + w[1] * offset[0][1] + w[2] * offset[0][2] + w[3] * offset[0][3]) * to_cells;
+  const float shift_v = (w[0] * offset[1][0] + w[1] * offset[1][1] + w[2] * offset[1][2] + w[3] * offset[1][3]) * to_cells;
+  Stencil shifted = at;
+  shifted.fu -= shift_u;
+  shifted.fv -= shift_v;
+  if (shifted.fu < 0.0f || shifted.fu >= 1.0f || shifted.fv < 0.0f || shifted.fv >= 1.0f) {
+    // Shifted past the four cells' centres: the next four.
+    const float cell = static_cast<float>(cell_size_);
+    shifted = Stencil(world.x() - shift_u * cell, world.y() - shift_v * cell, cell_size_);
+    Corners(shifted.i, shifted.j, value, nullptr);
+  }
+  return shifted.Interpolate(value, gradient, per_cell);
 }
 
 }  // namespace pslam

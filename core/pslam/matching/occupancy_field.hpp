@@ -2,7 +2,8 @@
 // A smooth view of an occupancy grid for gradient-based scan matching: the "occupancy evidence"
 // max(0, 2p - 1) of each cell (free and unknown space carry none), bilinearly interpolated. Coarse
 // levels take the maximum over 2^k x 2^k blocks of cells, which widens the basin of convergence
-// without storing extra maps per particle.
+// without storing extra maps per particle. On the finest level the field can place each cell's
+// evidence where its hits landed (OccupancyGrid::HitOffset) rather than at the cell's centre.
 #include <Eigen/Core>
 #include <cstdint>
 #include <unordered_map>
@@ -13,7 +14,7 @@ namespace pslam {
 
 class OccupancyField {
  public:
-  OccupancyField(const OccupancyGrid& grid, int level);
+  OccupancyField(const OccupancyGrid& grid, int level, bool hit_offsets = false);
 
   // Interpolated evidence at a world point, and its gradient (per metre).
   float Value(const Eigen::Vector2f& world, Eigen::Vector2f* gradient) const;
@@ -21,9 +22,13 @@ class OccupancyField {
 
  private:
   float Coarse(int i, int j) const;
+  // Evidence of the cells (i, j), (i+1, j), (i, j+1), (i+1, j+1), and on the finest level where
+  // their hits landed when `offset` is given (x then y, in OccupancyGrid::HitOffset's stored units).
+  void Corners(int i, int j, float (&value)[4], float (*offset)[2][4]) const;
 
   const OccupancyGrid& grid_;
   int level_;
+  bool hit_offsets_;
   double cell_size_;
   mutable std::unordered_map<std::uint64_t, float> pooled_;  // coarse levels: pooled cell values read so far
 };

@@ -112,9 +112,10 @@ double TranslationConstraintRatio(const Eigen::Matrix3d& hessian) {
   return values(1) > 0.0 ? std::max(0.0, values(0)) / values(1) : 0.0;
 }
 
-double ScoreScan(const OccupancyGrid& grid, const std::vector<Eigen::Vector2f>& points, const Pose2D& pose) {
+namespace {
+// Mean evidence of the points at a pose.
+double MeanEvidence(const OccupancyField& field, const std::vector<Eigen::Vector2f>& points, const Pose2D& pose) {
   if (points.empty()) return 0.0;
-  const OccupancyField field(grid, 0);
   const float c = static_cast<float>(std::cos(pose.theta)), s = static_cast<float>(std::sin(pose.theta));
   double sum = 0.0;
   for (const auto& p : points) {
@@ -123,6 +124,11 @@ double ScoreScan(const OccupancyGrid& grid, const std::vector<Eigen::Vector2f>& 
   }
   return sum / static_cast<double>(points.size());
 }
+}  // namespace
+
+double ScoreScan(const OccupancyGrid& grid, const std::vector<Eigen::Vector2f>& points, const Pose2D& pose) {
+  return MeanEvidence(OccupancyField(grid, 0), points, pose);
+}
 
 ScanMatchResult MatchScan(const OccupancyGrid& grid, const std::vector<Eigen::Vector2f>& points,
                           const Pose2D& initial, const ScanMatchOptions& o) {
@@ -130,9 +136,10 @@ ScanMatchResult MatchScan(const OccupancyGrid& grid, const std::vector<Eigen::Ve
   result.pose = initial;
   if (points.empty()) return result;
   for (int level = o.coarsest_level; level >= 0; --level) {
-    RefineOnLevel(OccupancyField(grid, level), points, initial, result.pose, o, level == 0 ? &result.hessian : nullptr);
+    RefineOnLevel(OccupancyField(grid, level, o.hit_offsets), points, initial, result.pose, o,
+                  level == 0 ? &result.hessian : nullptr);
   }
-  result.score = ScoreScan(grid, points, result.pose);
+  result.score = MeanEvidence(OccupancyField(grid, 0, o.hit_offsets), points, result.pose);
   const Pose2D correction = Between(initial, result.pose);
   result.converged = result.score >= o.min_score && std::hypot(correction.x, correction.y) <= o.max_correction_translation &&
                      std::abs(correction.theta) <= o.max_correction_rotation;

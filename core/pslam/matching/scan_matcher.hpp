@@ -30,6 +30,10 @@ struct ScanMatchOptions {
   // The weight sets how far the map may pull: at 30 a match moves a centimetre or two. 0: off.
   double prior_translation_weight = 0.0;  // per metre
   double prior_rotation_weight = 0.0;     // per radian
+  // On the finest level, read each cell's evidence where its hits landed rather than at the cell's
+  // centre (OccupancyField): a wall on a cell's edge otherwise pulls endpoints half a cell into
+  // itself, and a scan seeing more of one side's walls turns by that much.
+  bool hit_offsets = false;
   double min_score = 0.15;           // below this mean evidence the match is not trusted
   // A match that moves the pose further than this from the initial guess has most likely locked
   // onto the wrong structure (a parallel wall, the next door): it is not trusted either.
