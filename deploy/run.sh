@@ -52,7 +52,7 @@ done
 # guard keeps scan matching from sliding along it (README, Experiments). The simulated wheels err
 # by about 1 % of distance, so scan matching may lean on them where the scan says little.
 build/bin/pslam-agent --server "127.0.0.1:$port" --source "sim:$world" --rate "$rate" \
-  --spool "$data/agent-spool" --session-name "simulated $world" --settings '{"odometry_prior": 30}' &
+  --spool "$data/agent-spool" --session-name "simulated $world" --settings '{"odometry_prior": 30, "hit_offsets": false}' &
 agent_pid=$!
 
 echo

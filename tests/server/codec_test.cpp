@@ -105,6 +105,17 @@ TEST(SettingsCodecTest, OdometryPriorReachesBothScanMatchesAndIsBounded) {
   EXPECT_ANY_THROW(ParseSessionSettings(nlohmann::json{{"odometry_prior", "strong"}}, {}, limits));
 }
 
+TEST(SettingsCodecTest, HitOffsetsReachBothScanMatches) {
+  const SettingsLimits limits;
+  EXPECT_TRUE(ToPSlamOptions(SessionSettings{}).filter.particle_match.hit_offsets);  // as in the core
+  const SessionSettings s = ParseSessionSettings(nlohmann::json{{"hit_offsets", false}}, {}, limits);
+  const PSlamOptions options = ToPSlamOptions(s);
+  EXPECT_FALSE(options.filter.tracking_match.hit_offsets);
+  EXPECT_FALSE(options.filter.particle_match.hit_offsets);
+  EXPECT_FALSE(ParseSessionSettings(SessionSettingsToJson(s), {}, limits).hit_offsets);
+  EXPECT_ANY_THROW(ParseSessionSettings(nlohmann::json{{"hit_offsets", "no"}}, {}, limits));
+}
+
 TEST(TileTrackerTest, ReportsWrittenTilesOnlyAndSurvivesCopies) {
   OccupancyGrid grid(0.05);
   grid.AddLogOdds(1, 1, 100, -2000, 2000);

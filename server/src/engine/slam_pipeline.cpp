@@ -74,6 +74,7 @@ PSlamOptions ToPSlamOptions(const SessionSettings& settings) {
   f.resample_threshold = settings.resample_threshold;
   SetDegenerateRatio(f, settings.degenerate_ratio);
   SetMatchPrior(f, settings.odometry_prior);
+  SetHitOffsets(f, settings.hit_offsets);
   f.grid.max_tile_slots = MaxTileSlots(settings);
   o.predict = settings.predict;
   o.heading_targets = !settings.plan_targets;

@@ -40,6 +40,10 @@ struct SessionSettings {
   // Worth it only for wheels far better than the scan's flattest direction: the simulated robot's
   // (30, as its explorations use); real logs' odometry lost accuracy with it.
   double odometry_prior = 0.0;
+  // Scan matching reads each cell's evidence where its hits landed (ScanMatchOptions::hit_offsets),
+  // as the core does by default. The simulated worlds' walls lie on cell edges, where matching on
+  // cell centres holds the map on the true grid: their explorations turn this off.
+  bool hit_offsets = true;
   // The session fails ("memory limit") rather than let its maps grow past this; the engine's own
   // accounting (particle grids, shared tiles once) plus what the map's extent costs to plan on.
   int memory_limit_mb = 1024;

@@ -51,6 +51,7 @@ SessionSettings ParseSessionSettings(const nlohmann::json& json, const SessionSe
     if (*v < 0.0 || *v > 1000.0) f.Fail("odometry_prior", "must be in [0, 1000]");
     s.odometry_prior = *v;
   }
+  if (auto v = f.Bool("hit_offsets")) s.hit_offsets = *v;
   if (auto v = f.Integer("memory_limit_mb")) {
     if (*v < 16 || *v > limits.max_memory_mb) f.Fail("memory_limit_mb", "must be in [16, " + std::to_string(limits.max_memory_mb) + "]");
     s.memory_limit_mb = static_cast<int>(*v);
@@ -122,6 +123,7 @@ nlohmann::json SessionSettingsToJson(const SessionSettings& s) {
           {"resample_threshold", s.resample_threshold},
           {"degenerate_ratio", s.degenerate_ratio},
           {"odometry_prior", s.odometry_prior},
+          {"hit_offsets", s.hit_offsets},
           {"memory_limit_mb", s.memory_limit_mb},
           {"predictor", object(s.predictor_json)},
           {"mode", s.mode},
