@@ -29,15 +29,30 @@ OccupancyField::OccupancyField(const OccupancyGrid& grid, int level, bool hit_of
 
 float OccupancyField::Coarse(int i, int j) const {
   if (level_ == 0) return CellEvidence(grid_.At(i, j));
-  // A match reads the same few hundred pooled cells over and over: remember them.
-  const auto [it, inserted] = pooled_.try_emplace(CellKey(i, j), 0.0f);
-  if (!inserted) return it->second;
+  // A match reads the same few hundred pooled cells over and over: remember them. A slot taken by
+  // another block only costs that block's maximum again.
+  const std::uint64_t key = CellKey(i, j);
+  const std::size_t index = (static_cast<std::uint32_t>(i) * 73856093u ^ static_cast<std::uint32_t>(j) * 19349663u) &
+                            (kPooledSlots - 1);
+  if (pooled_.empty()) pooled_.resize(kPooledSlots);
+  PooledSlot& slot = pooled_[index];
+  if (slot.filled && slot.key == key) return slot.value;
   const int n = 1 << level_;
   float best = 0.0f;
-  for (int y = j * n; y < (j + 1) * n; ++y) {
-    for (int x = i * n; x < (i + 1) * n; ++x) best = std::max(best, CellEvidence(grid_.At(x, y)));
+  if (n <= OccupancyGrid::kTileSize) {
+    // Blocks are aligned to their size, tiles to theirs: one tile holds the whole block.
+    const int x0 = i * n, y0 = j * n;
+    if (const OccupancyGrid::Tile* tile = grid_.TileAt(x0 >> OccupancyGrid::kTileBits, y0 >> OccupancyGrid::kTileBits)) {
+      for (int y = y0; y < y0 + n; ++y) {
+        for (int x = x0; x < x0 + n; ++x) best = std::max(best, CellEvidence(tile->cells[OccupancyGrid::Local(x, y)]));
+      }
+    }
+  } else {
+    for (int y = j * n; y < (j + 1) * n; ++y) {
+      for (int x = i * n; x < (i + 1) * n; ++x) best = std::max(best, CellEvidence(grid_.At(x, y)));
+    }
   }
-  it->second = best;
+  slot = {key, best, true};
   return best;
 }
 

@@ -6,7 +6,7 @@
 // evidence where its hits landed (OccupancyGrid::HitOffset) rather than at the cell's centre.
 #include <Eigen/Core>
 #include <cstdint>
-#include <unordered_map>
+#include <vector>
 
 #include "pslam/grid/occupancy_grid.hpp"
 
@@ -30,7 +30,14 @@ class OccupancyField {
   int level_;
   bool hit_offsets_;
   double cell_size_;
-  mutable std::unordered_map<std::uint64_t, float> pooled_;  // coarse levels: pooled cell values read so far
+  // Coarse levels: pooled cell values read so far, direct-mapped.
+  struct PooledSlot {
+    std::uint64_t key = 0;
+    float value = 0.0f;
+    bool filled = false;
+  };
+  static constexpr std::size_t kPooledSlots = 1024;
+  mutable std::vector<PooledSlot> pooled_;
 };
 
 // Table lookup of max(0, 2p - 1) for a stored cell value.
