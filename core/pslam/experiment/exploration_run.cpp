@@ -42,8 +42,8 @@ ExplorationOptions DefaultExplorationOptions() {
   SetMatchPrior(options.slam.filter, 30.0);
   // The simulated walls lie on the edges of the map's cells, where matching on cell centres both
   // turns the scan (a wall pulls endpoints half a cell into itself) and holds the map on the true
-  // grid. With hit offsets the turn is gone but so is the hold: the office drifted 2-3 times as
-  // far (docs/loop-closure.md). Real walls lie anywhere in a cell, so the filter's default is on.
+  // grid. With hit offsets the turn is gone but so is the hold: the office drifted twice as far
+  // (docs/loop-closure.md). Real walls lie anywhere in a cell, so the filter's default is on.
   SetHitOffsets(options.slam.filter, false);
   // Skip-predicted runs stopped with a wing unexplored when a predicted wall stood where it opens.
   options.explore.way_in_cost_factor = 3.0;
