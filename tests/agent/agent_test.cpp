@@ -6,6 +6,7 @@
 #include <atomic>
 #include <thread>
 
+#include "closed_port.hpp"
 #include "fakes/fake_ingest_server.hpp"
 #include "sources/log_source.hpp"
 #include "sources/sim_source.hpp"
@@ -105,12 +106,8 @@ TEST(AgentTest, RefusedTokenStopsTheAgentWithAClearExitCode) {
 
 TEST(AgentTest, FullSpoolOfALiveSourceIsCountedAndReported) {
   TempDir dir;
-  unsigned short port = 0;
-  {
-    FakeIngestServer probe;
-    port = probe.Start();  // nobody listens there afterwards: the link is down throughout
-  }
-  AgentOptions o = Options(port, dir);
+  const testing::ClosedPort closed;  // the link is down throughout
+  AgentOptions o = Options(closed.port(), dir);
   // ~100 records (scans and odometry, about 0.4 KiB each): full within about a second even when a
   // loaded machine simulates only 40 scans a second.
   o.spool_max_mb = 0.04;

@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <optional>
 #include <set>
 #include <thread>
 
+#include "closed_port.hpp"
 #include "fakes/fake_ingest_server.hpp"
 #include "link/session_state.hpp"
 #include "temp_dir.hpp"
@@ -207,11 +209,8 @@ TEST(ServerLinkTest, RefusedTokenInBandIsReportedClearly) {
 
 TEST(ServerLinkTest, NoServerMeansBackOffNotBusyLoop) {
   TempDir dir;
-  unsigned short port = 0;
-  {
-    FakeIngestServer probe;
-    port = probe.Start();  // a port nobody listens on afterwards
-  }
+  std::optional<testing::ClosedPort> closed(std::in_place);
+  const unsigned short port = closed->port();
   Spool spool(SpoolAt(dir));
   auto options = LinkOptions(port, dir);
   options.backoff_initial_s = 0.05;
@@ -223,6 +222,7 @@ TEST(ServerLinkTest, NoServerMeansBackOffNotBusyLoop) {
   EXPECT_GE(failures, 3u);
   EXPECT_LE(failures, 10u);  // 0.05, 0.1, 0.2, 0.4, 0.4, ... not thousands
   // And it connects once the server appears.
+  closed.reset();
   FakeIngestServer server;
   server.Start(port);
   spool.Append(Message(1));
