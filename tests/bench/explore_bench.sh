@@ -35,11 +35,10 @@ while (( $# )); do
   esac
   shift
 done
-[[ $jobs =~ ^[1-9][0-9]*$ ]] || die "--jobs must be a positive integer, got '$jobs'"
+check_jobs
 parse_seeds "$seed_list"
 
-pslam=${PSLAM_BIN:-build/bin/pslam}
-[[ -x $pslam ]] || die "$pslam not found: build it with 'cmake --build build --target pslam'"
+find_pslam
 
 # The `pslam experiment explore` arguments naming each world.
 IFS=, read -ra worlds <<<"$world_list"

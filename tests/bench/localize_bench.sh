@@ -41,13 +41,12 @@ while (( $# )); do
   esac
   shift
 done
-[[ $jobs =~ ^[1-9][0-9]*$ ]] || die "--jobs must be a positive integer, got '$jobs'"
+check_jobs
 
 parse_seeds "$seed_list"
 find_logs "$data" "$log_list"
 
-pslam=${PSLAM_BIN:-build/bin/pslam}
-[[ -x $pslam ]] || die "$pslam not found: build it with 'cmake --build build --target pslam'"
+find_pslam
 
 if [[ -n $keep ]]; then
   mkdir -p "$keep"

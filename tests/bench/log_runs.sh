@@ -11,6 +11,18 @@ die() {
   exit 1
 }
 
+# Dies unless $jobs is a positive integer.
+check_jobs() {
+  [[ $jobs =~ ^[1-9][0-9]*$ ]] || die "--jobs must be a positive integer, got '$jobs'"
+}
+
+# Sets 'pslam' to the binary under test: $PSLAM_BIN (another build's, to compare two builds) or
+# this build's.
+find_pslam() {
+  pslam=${PSLAM_BIN:-build/bin/pslam}
+  [[ -x $pslam ]] || die "$pslam not found: build it with 'cmake --build build --target pslam'"
+}
+
 # Fills 'seeds' from a list of numbers and ranges such as 1-5,9.
 parse_seeds() {
   local list=$1 part parts

@@ -46,13 +46,12 @@ while (( $# )); do
   shift
 done
 [[ $particles =~ ^[1-9][0-9]*$ ]] || die "--particles must be a positive integer, got '$particles'"
-[[ $jobs =~ ^[1-9][0-9]*$ ]] || die "--jobs must be a positive integer, got '$jobs'"
+check_jobs
 
 parse_seeds "$seed_list"
 find_logs "$data" "$log_list"
 
-pslam=${PSLAM_BIN:-build/bin/pslam}  # another build's binary, to compare two builds
-[[ -x $pslam ]] || die "$pslam not found: build it with 'cmake --build build --target pslam'"
+find_pslam
 # /usr/bin/time measures the peak memory in case `pslam run` does not print it.
 timer=()
 [[ -x /usr/bin/time ]] && timer=(/usr/bin/time -v -o)

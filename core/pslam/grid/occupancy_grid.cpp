@@ -144,7 +144,7 @@ void OccupancyGrid::AddHit(int cx, int cy, const Eigen::Vector2f& in_cell, int d
   // refine it without dragging it along.
   std::uint8_t& count = tile->hit_count[i];
   if (c == kUnknown || c <= 0) count = 0;
-  c = static_cast<Cell>(std::clamp((c == kUnknown ? 0 : c) + delta, lo, hi));
+  c = Added(c, delta, lo, hi);
   if (count < 255) ++count;
   const auto average = [count](std::int8_t& mean, float position) {
     const float target = std::clamp(position, -0.5f, 0.5f) * kHitOffsetScale;

@@ -88,8 +88,7 @@ class OccupancyGrid {
   // Adds `delta` (milli log-odds) to a cell, clamped to [lo, hi]; an unknown cell starts at 0.
   void AddLogOdds(int cx, int cy, int delta, int lo, int hi) {
     Cell& c = MutableAt(cx, cy);
-    const int base = c == kUnknown ? 0 : c;
-    c = static_cast<Cell>(std::clamp(base + delta, lo, hi));
+    c = Added(c, delta, lo, hi);
   }
 
   // AddLogOdds for a hit that landed at `in_cell` (cells, from the cell's centre, each in
@@ -129,6 +128,9 @@ class OccupancyGrid {
   static int Local(int cx, int cy) { return ((cy & kTileMask) << kTileBits) | (cx & kTileMask); }
 
  private:
+  static Cell Added(Cell c, int delta, int lo, int hi) {
+    return static_cast<Cell>(std::clamp((c == kUnknown ? 0 : c) + delta, lo, hi));
+  }
   static int CellIndex(double v) {
     const double f = std::floor(v);
     if (!(f > -kMaxCellIndex)) return -kMaxCellIndex;  // also NaN

@@ -25,7 +25,11 @@ float CellEvidence(OccupancyGrid::Cell c) {
 }
 
 OccupancyField::OccupancyField(const OccupancyGrid& grid, int level, bool hit_offsets)
-    : grid_(grid), level_(level), hit_offsets_(hit_offsets && level == 0), cell_size_(grid.resolution() * (1 << level)) {}
+    : grid_(grid),
+      level_(level),
+      hit_offsets_(hit_offsets && level == 0),
+      cell_size_(grid.resolution() * (1 << level)),
+      per_cell_(static_cast<float>(1.0 / cell_size_)) {}
 
 float OccupancyField::Coarse(int i, int j) const {
   if (level_ == 0) return CellEvidence(grid_.At(i, j));
@@ -81,7 +85,7 @@ struct Stencil {
 };
 }  // namespace
 
-void OccupancyField::Corners(int i, int j, float (&value)[4], float (*offset)[2][4]) const {
+void OccupancyField::Corners(int i, int j, float (&value)[4], HitOffsets* offset) const {
   if (level_ > 0) {
     value[0] = Coarse(i, j), value[1] = Coarse(i + 1, j), value[2] = Coarse(i, j + 1), value[3] = Coarse(i + 1, j + 1);
     return;
@@ -96,29 +100,28 @@ void OccupancyField::Corners(int i, int j, float (&value)[4], float (*offset)[2]
     const int local = OccupancyGrid::Local(cx[k], cy[k]);
     value[k] = tile ? CellEvidence(tile->cells[local]) : 0.0f;
     if (offset) {
-      (*offset)[0][k] = tile ? tile->hit_x[local] : 0.0f;
-      (*offset)[1][k] = tile ? tile->hit_y[local] : 0.0f;
+      offset->x[k] = tile ? tile->hit_x[local] : 0.0f;
+      offset->y[k] = tile ? tile->hit_y[local] : 0.0f;
     }
   }
 }
 
 float OccupancyField::Value(const Eigen::Vector2f& world, Eigen::Vector2f* gradient) const {
-  const float per_cell = static_cast<float>(1.0 / cell_size_);
   const Stencil at(world.x(), world.y(), cell_size_);
   float value[4];
-  float offset[2][4];
+  HitOffsets offset;
   Corners(at.i, at.j, value, hit_offsets_ ? &offset : nullptr);
-  if (!hit_offsets_) return at.Interpolate(value, gradient, per_cell);
+  if (!hit_offsets_) return at.Interpolate(value, gradient, per_cell_);
   // A wall whose surface lies on a cell's edge is drawn by its hits near that edge: read the field
   // shifted by where the hits around the point landed (weighted by each cell's share of the
   // evidence there), so that the evidence peaks on the surface instead of half a cell behind it.
   const float w[4] = {(1 - at.fu) * (1 - at.fv) * value[0], at.fu * (1 - at.fv) * value[1],
                       (1 - at.fu) * at.fv * value[2], at.fu * at.fv * value[3]};
   const float total = w[0] + w[1] + w[2] + w[3];
-  if (total <= 0.0f) return at.Interpolate(value, gradient, per_cell);
+  if (total <= 0.0f) return at.Interpolate(value, gradient, per_cell_);
   const float to_cells = 1.0f / (total * OccupancyGrid::kHitOffsetScale);
-  const float shift_u = (w[0] * offset[0][0] + w[1] * offset[0][1] + w[2] * offset[0][2] + w[3] * offset[0][3]) * to_cells;
-  const float shift_v = (w[0] * offset[1][0] + w[1] * offset[1][1] + w[2] * offset[1][2] + w[3] * offset[1][3]) * to_cells;
+  const float shift_u = (w[0] * offset.x[0] + w[1] * offset.x[1] + w[2] * offset.x[2] + w[3] * offset.x[3]) * to_cells;
+  const float shift_v = (w[0] * offset.y[0] + w[1] * offset.y[1] + w[2] * offset.y[2] + w[3] * offset.y[3]) * to_cells;
   Stencil shifted = at;
   shifted.fu -= shift_u;
   shifted.fv -= shift_v;
@@ -128,7 +131,7 @@ float OccupancyField::Value(const Eigen::Vector2f& world, Eigen::Vector2f* gradi
     shifted = Stencil(world.x() - shift_u * cell, world.y() - shift_v * cell, cell_size_);
     Corners(shifted.i, shifted.j, value, nullptr);
   }
-  return shifted.Interpolate(value, gradient, per_cell);
+  return shifted.Interpolate(value, gradient, per_cell_);
 }
 
 }  // namespace pslam

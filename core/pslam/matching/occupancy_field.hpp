@@ -21,15 +21,21 @@ class OccupancyField {
   double cell_size() const { return cell_size_; }
 
  private:
+  // Where the hits of four cells landed, in OccupancyGrid::kHitOffsetScale units per cell.
+  struct HitOffsets {
+    float x[4], y[4];
+  };
+
   float Coarse(int i, int j) const;
   // Evidence of the cells (i, j), (i+1, j), (i, j+1), (i+1, j+1), and on the finest level where
-  // their hits landed when `offset` is given (x then y, in OccupancyGrid::HitOffset's stored units).
-  void Corners(int i, int j, float (&value)[4], float (*offset)[2][4]) const;
+  // their hits landed when `offset` is given.
+  void Corners(int i, int j, float (&value)[4], HitOffsets* offset) const;
 
   const OccupancyGrid& grid_;
   int level_;
   bool hit_offsets_;
   double cell_size_;
+  float per_cell_;  // 1 / cell_size_
   // Coarse levels: pooled cell values read so far, direct-mapped.
   struct PooledSlot {
     std::uint64_t key = 0;
