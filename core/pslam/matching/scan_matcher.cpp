@@ -130,12 +130,13 @@ double ScoreScan(const OccupancyGrid& grid, const std::vector<Eigen::Vector2f>& 
   return MeanEvidence(OccupancyField(grid, 0), points, pose);
 }
 
-ScanMatchResult MatchScan(const OccupancyGrid& grid, const std::vector<Eigen::Vector2f>& points,
-                          const Pose2D& initial, const ScanMatchOptions& o) {
+namespace {
+
+ScanMatchResult MatchFromLevel(const OccupancyGrid& grid, const std::vector<Eigen::Vector2f>& points,
+                               const Pose2D& initial, const ScanMatchOptions& o, int coarsest_level) {
   ScanMatchResult result;
   result.pose = initial;
-  if (points.empty()) return result;
-  for (int level = o.coarsest_level; level >= 0; --level) {
+  for (int level = coarsest_level; level >= 0; --level) {
     RefineOnLevel(OccupancyField(grid, level, o.hit_offsets), points, initial, result.pose, o,
                   level == 0 ? &result.hessian : nullptr);
   }
@@ -144,6 +145,24 @@ ScanMatchResult MatchScan(const OccupancyGrid& grid, const std::vector<Eigen::Ve
   result.converged = result.score >= o.min_score && std::hypot(correction.x, correction.y) <= o.max_correction_translation &&
                      std::abs(correction.theta) <= o.max_correction_rotation;
   if (!result.converged) result.pose = initial;
+  return result;
+}
+
+bool Better(const ScanMatchResult& a, const ScanMatchResult& b) {
+  if (a.converged != b.converged) return a.converged;
+  return a.score > b.score;
+}
+
+}  // namespace
+
+ScanMatchResult MatchScan(const OccupancyGrid& grid, const std::vector<Eigen::Vector2f>& points,
+                          const Pose2D& initial, const ScanMatchOptions& o) {
+  if (points.empty()) return ScanMatchResult{.pose = initial};
+  ScanMatchResult result = MatchFromLevel(grid, points, initial, o, o.coarsest_level);
+  if (o.second_start_level >= 0 && o.second_start_level != o.coarsest_level) {
+    ScanMatchResult second = MatchFromLevel(grid, points, initial, o, o.second_start_level);
+    if (Better(second, result)) result = std::move(second);
+  }
   return result;
 }
 
