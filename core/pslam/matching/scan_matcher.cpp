@@ -148,20 +148,17 @@ ScanMatchResult MatchFromLevel(const OccupancyGrid& grid, const std::vector<Eige
   return result;
 }
 
-bool Better(const ScanMatchResult& a, const ScanMatchResult& b) {
-  if (a.converged != b.converged) return a.converged;
-  return a.score > b.score;
-}
-
 }  // namespace
 
 ScanMatchResult MatchScan(const OccupancyGrid& grid, const std::vector<Eigen::Vector2f>& points,
                           const Pose2D& initial, const ScanMatchOptions& o) {
   if (points.empty()) return ScanMatchResult{.pose = initial};
   ScanMatchResult result = MatchFromLevel(grid, points, initial, o, o.coarsest_level);
-  if (o.second_start_level >= 0 && o.second_start_level != o.coarsest_level) {
+  // Only a first match that found a hold on the map is second-guessed: where it found none, a
+  // narrower start from the same guess is no more to be trusted, and the guess stands.
+  if (result.converged && o.second_start_level >= 0 && o.second_start_level != o.coarsest_level) {
     ScanMatchResult second = MatchFromLevel(grid, points, initial, o, o.second_start_level);
-    if (Better(second, result)) result = std::move(second);
+    if (second.converged && second.score > result.score) result = std::move(second);
   }
   return result;
 }

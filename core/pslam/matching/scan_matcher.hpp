@@ -12,9 +12,9 @@ namespace pslam {
 
 struct ScanMatchOptions {
   int coarsest_level = 1;            // levels coarsest_level ... 0; each doubles the cell size
-  // A second match starts from this level and the better of the two is kept (converged first,
-  // then the higher score). From coarse cells a match reaches far but now and then settles on a
-  // wrong optimum; from finer ones it reaches less far and settles better. -1: one match only.
+  // When the first match converged, a second one starts from this level and the higher score of
+  // the two is kept. From coarse cells a match reaches far but now and then settles on a wrong
+  // optimum; from finer ones it reaches less far and settles better. -1: one match only.
   int second_start_level = -1;
   int iterations_per_level = 10;
   double max_translation_step = 0.1; // metres per iteration, a guard against wild steps
