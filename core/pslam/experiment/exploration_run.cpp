@@ -45,10 +45,6 @@ ExplorationOptions DefaultExplorationOptions() {
   // grid. With hit offsets the turn is gone but so is the hold: the office drifted twice as far
   // (docs/loop-closure.md). Real walls lie anywhere in a cell, so the filter's default is on.
   SetHitOffsets(options.slam.filter, false);
-  // The second tracking start mends matches that odometry lagging in fast turns leads astray on
-  // real logs. The simulated wheels do not lag, and with it the office drifted further (mean
-  // position error 0.111 m against 0.082 m, seeds 1-5, docs/loop-closure.md).
-  options.slam.filter.tracking_match.second_start_level = -1;
   // Skip-predicted runs stopped with a wing unexplored when a predicted wall stood where it opens.
   options.explore.way_in_cost_factor = 3.0;
   return options;

@@ -32,7 +32,7 @@ const OptionTable<RbpfOptions>& Setters() {
       {"particle_match.hit_offsets", Option(&RbpfOptions::particle_match, &ScanMatchOptions::hit_offsets)},
       {"tracking_match.coarsest_level", Option(&RbpfOptions::tracking_match, &ScanMatchOptions::coarsest_level)},
       {"tracking_match.second_start_level", Option(&RbpfOptions::tracking_match, &ScanMatchOptions::second_start_level)},
-      {"particle_match.second_start_level", Option(&RbpfOptions::particle_match, &ScanMatchOptions::second_start_level)},
+      {"tracking_match.second_start_margin", Option(&RbpfOptions::tracking_match, &ScanMatchOptions::second_start_margin)},
       {"tracking_match.iterations_per_level", Option(&RbpfOptions::tracking_match, &ScanMatchOptions::iterations_per_level)},
       {"tracking_match.min_score", Option(&RbpfOptions::tracking_match, &ScanMatchOptions::min_score)},
       {"tracking_match.max_correction_translation", Option(&RbpfOptions::tracking_match, &ScanMatchOptions::max_correction_translation)},

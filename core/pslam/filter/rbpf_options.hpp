@@ -50,15 +50,12 @@ struct RbpfOptions {
   ScanInsertOptions insert;
   // Tracking starts from odometry alone and must also pull the pose back onto old structure when
   // the robot returns to it after a long excursion (the last loop of the Intel log): it matches
-  // from 40 cm pooled cells down. From there it now and then settles on a wrong optimum, most
-  // often while the robot turns in place, so a second match starts from 20 cm cells and the
-  // better one is kept; from 20 cm cells alone it lost FR079 at one seed of five
-  // (docs/loop-closure.md). Particles start from the tracked pose and need less.
+  // from 40 cm pooled cells down. Particles start from the tracked pose and need less.
   // Both keep odometry along a direction the scan barely constrains (degenerate_ratio): in a long
   // corridor the match otherwise slides, and every particle with it, since each is refined onto
   // the same optimum. On ACES at 10 particles, seed 9, the estimate fell 6 m behind the robot in
   // one corridor and the map doubled it (docs/loop-closure.md).
-  ScanMatchOptions tracking_match{.coarsest_level = 3, .second_start_level = 2, .degenerate_ratio = 0.15, .hit_offsets = true};
+  ScanMatchOptions tracking_match{.coarsest_level = 3, .degenerate_ratio = 0.15, .hit_offsets = true};
   ScanMatchOptions particle_match{.coarsest_level = 1, .degenerate_ratio = 0.15, .hit_offsets = true};
   LikelihoodOptions likelihood;
   MotionNoise motion;

@@ -155,10 +155,11 @@ ScanMatchResult MatchScan(const OccupancyGrid& grid, const std::vector<Eigen::Ve
   if (points.empty()) return ScanMatchResult{.pose = initial};
   ScanMatchResult result = MatchFromLevel(grid, points, initial, o, o.coarsest_level);
   // Only a first match that found a hold on the map is second-guessed: where it found none, a
-  // narrower start from the same guess is no more to be trusted, and the guess stands.
+  // narrower start from the same guess is no more to be trusted, and the guess stands. Two
+  // optima that score alike say the scan is ambiguous there: the first stands then too.
   if (result.converged && o.second_start_level >= 0 && o.second_start_level != o.coarsest_level) {
     ScanMatchResult second = MatchFromLevel(grid, points, initial, o, o.second_start_level);
-    if (second.converged && second.score > result.score) result = std::move(second);
+    if (second.converged && second.score > o.second_start_margin * result.score) result = std::move(second);
   }
   return result;
 }

@@ -12,10 +12,12 @@ namespace pslam {
 
 struct ScanMatchOptions {
   int coarsest_level = 1;            // levels coarsest_level ... 0; each doubles the cell size
-  // When the first match converged, a second one starts from this level and the higher score of
-  // the two is kept. From coarse cells a match reaches far but now and then settles on a wrong
-  // optimum; from finer ones it reaches less far and settles better. -1: one match only.
+  // When the first match converged, a second one starts from this level and replaces it if it
+  // scores at least second_start_margin times as high. From coarse cells a match reaches far but
+  // now and then settles on a wrong optimum; from finer ones it reaches less far and settles
+  // better. -1: one match only.
   int second_start_level = -1;
+  double second_start_margin = 1.05;
   int iterations_per_level = 10;
   double max_translation_step = 0.1; // metres per iteration, a guard against wild steps
   double max_rotation_step = 0.1;    // radians per iteration
