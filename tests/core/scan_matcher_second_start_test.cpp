@@ -36,12 +36,11 @@ Outcome MatchTurnedGuesses(int second_start_level) {
     const Pose2D pose(1.1 + 0.03 * k, 1.1, 0.2 * k);  // turning in place, nearly
     inserter.Insert(ToScanPoints(SimulateScan(maze, pose, laser, rng), points), pose, grid);
   }
-  ScanMatchOptions options{.coarsest_level = 3, .second_start_level = second_start_level, .degenerate_ratio = 0.15};
+  const ScanMatchOptions options{.coarsest_level = 3, .second_start_level = second_start_level, .degenerate_ratio = 0.15};
   // Each start alone, to check what the pair picks.
   ScanMatchOptions coarse = options, fine = options;
-  coarse.second_start_level = -1;
+  coarse.second_start_level = fine.second_start_level = -1;
   fine.coarsest_level = second_start_level;
-  fine.second_start_level = -1;
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   Outcome outcome;
   for (int n = 0; n < 200; ++n) {
