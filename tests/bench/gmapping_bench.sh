@@ -90,11 +90,12 @@ summarize() {
 
 rows=()
 for log in "${logs[@]}"; do
-  clf=$data/$log/$log.clf relations=$data/$log/$log.relations
+  clf=$(realpath "$data/$log/$log.clf") relations=$data/$log/$log.relations
   for seed in "${seeds[@]}"; do
     echo "gmapping_bench: $log seed $seed: GMapping ..." >&2
-    /usr/bin/time -v -o "$tmp/g.time" "$out/gfs_nogui" -filename "$clf" -particles "$particles" \
-      -randseed "$seed" -outfilename "$tmp/g.gfs" >"$tmp/g.out" 2>"$tmp/g.err" ||
+    # In $tmp: gfs_nogui also writes rawpath.dat and a w-NNN.dat per particle where it runs.
+    (cd "$tmp" && /usr/bin/time -v -o g.time "$out/gfs_nogui" -filename "$clf" -particles "$particles" \
+      -randseed "$seed" -outfilename g.gfs >g.out 2>g.err) ||
       die "GMapping failed on $log seed $seed: $(tail -n 3 "$tmp/g.err")"
     "$out/gfs2log" "$tmp/g.gfs" "$tmp/g.log" >/dev/null || die "gfs2log failed on $log seed $seed"
     # gfs2log writes the best particle's pose at every laser scan as an ODOM line stamped with it.
