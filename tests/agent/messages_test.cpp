@@ -149,6 +149,15 @@ TEST(MessagesTest, ParsesServerMessages) {
     const std::string text = std::string(R"({"type": "target", "target": {"x": 0, "y": 0}, "path": [], "turn": )") + turn + "}";
     EXPECT_TRUE(std::holds_alternative<UnknownMessage>(ParseServerMessage(text))) << text;
   }
+  // Sequence numbers that are not non-negative integers (a fuzzed welcome carried -7.7e128).
+  for (const char* seq : {"-1", "2.5", "-7.66e128", "1e300", "\"7\""}) {
+    EXPECT_TRUE(std::holds_alternative<UnknownMessage>(
+        ParseServerMessage(std::string(R"({"type": "welcome", "session_id": "s-1", "last_acked_seq": )") + seq + "}")))
+        << seq;
+    EXPECT_TRUE(std::holds_alternative<UnknownMessage>(ParseServerMessage(std::string(R"({"type": "ack", "seq": )") + seq + "}")))
+        << seq;
+  }
+  EXPECT_EQ(std::get<WelcomeMessage>(ParseServerMessage(R"({"type": "welcome", "session_id": "s-1"})")).last_acked_seq, 0u);
   const auto e = std::get<ErrorMessage>(ParseServerMessage(R"({"type": "error", "code": "overloaded", "message": "slow down"})"));
   EXPECT_EQ(e.code, "overloaded");
   EXPECT_TRUE(std::holds_alternative<UnknownMessage>(ParseServerMessage("{not json")));

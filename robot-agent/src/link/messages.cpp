@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <numbers>
+#include <stdexcept>
 #include <nlohmann/json.hpp>
 
 namespace pslam::agent {
@@ -157,13 +158,24 @@ std::optional<std::vector<std::uint8_t>> ScanRecordToBinary(std::span<const std:
   return out;
 }
 
+namespace {
+// A sequence number: a non-negative JSON integer. nlohmann's get<std::uint64_t>() would cast a
+// float or a negative number, which is undefined for values out of range.
+std::uint64_t SequenceField(const nlohmann::json& j, const char* name, std::optional<std::uint64_t> missing = std::nullopt) {
+  if (missing && !j.contains(name)) return *missing;
+  const auto& value = j.at(name);
+  if (!value.is_number_unsigned()) throw std::invalid_argument(std::string(name) + " must be a non-negative integer");
+  return value.get<std::uint64_t>();
+}
+}  // namespace
+
 ServerMessage ParseServerMessage(std::string_view text) {
   try {
     const auto j = nlohmann::json::parse(text);
     const std::string type = j.at("type").get<std::string>();
-    if (type == "ack") return AckMessage{j.at("seq").get<std::uint64_t>()};
+    if (type == "ack") return AckMessage{SequenceField(j, "seq")};
     if (type == "welcome") {
-      return WelcomeMessage{j.at("session_id").get<std::string>(), j.value("last_acked_seq", std::uint64_t{0})};
+      return WelcomeMessage{j.at("session_id").get<std::string>(), SequenceField(j, "last_acked_seq", 0)};
     }
     if (type == "error") return ErrorMessage{j.value("code", std::string()), j.value("message", std::string())};
     if (type == "redirect") return RedirectMessage{j.at("address").get<std::string>()};
