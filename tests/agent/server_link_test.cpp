@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <fstream>
 #include <optional>
 #include <set>
 #include <thread>
@@ -178,6 +179,22 @@ TEST(ServerLinkTest, UnknownSessionStartsANewOneRenumbered) {
   ASSERT_EQ(sessions.size(), 1u);
   ExpectExactlyOnce(sessions.begin()->second, 30);  // spool seq 11..40 became wire seq 1..30
   EXPECT_EQ(LoadSessionState(dir.path() / "session.json")->seq_base, 10u);
+}
+
+TEST(ServerLinkTest, StateFilesWithBadSequenceNumbersAreIgnored) {
+  TempDir dir;
+  const auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir.path() / name) << text;
+    return dir.path() / name;
+  };
+  for (const char* seq : {"-1", "2.5", "-7.66e128", "\"10\""}) {
+    EXPECT_FALSE(LoadSessionState(write("session.json", std::string(R"({"session_id": "s-1", "seq_base": )") + seq + "}")))
+        << seq;
+    EXPECT_FALSE(LoadReplayPosition(write("replay.json", std::string(R"({"log": "a.clf", "first_seq": )") + seq + "}")))
+        << seq;
+  }
+  EXPECT_EQ(LoadSessionState(write("session.json", R"({"session_id": "s-1", "seq_base": 10})"))->seq_base, 10u);
+  EXPECT_EQ(LoadReplayPosition(write("replay.json", R"({"log": "a.clf", "first_seq": 3})"))->first_seq, 3u);
 }
 
 TEST(ServerLinkTest, RefusedTokenOnUpgradeIsReportedClearlyAndNotRetried) {

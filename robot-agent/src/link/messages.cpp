@@ -5,8 +5,9 @@
 #include <cmath>
 #include <cstring>
 #include <numbers>
-#include <stdexcept>
 #include <nlohmann/json.hpp>
+
+#include "link/json_sequence.hpp"
 
 namespace pslam::agent {
 namespace {
@@ -157,17 +158,6 @@ std::optional<std::vector<std::uint8_t>> ScanRecordToBinary(std::span<const std:
   out.insert(out.end(), record.begin() + 1, record.end());  // t, odom, n, ranges: same layout
   return out;
 }
-
-namespace {
-// A sequence number: a non-negative JSON integer. nlohmann's get<std::uint64_t>() would cast a
-// float or a negative number, which is undefined for values out of range.
-std::uint64_t SequenceField(const nlohmann::json& j, const char* name, std::optional<std::uint64_t> missing = std::nullopt) {
-  if (missing && !j.contains(name)) return *missing;
-  const auto& value = j.at(name);
-  if (!value.is_number_unsigned()) throw std::invalid_argument(std::string(name) + " must be a non-negative integer");
-  return value.get<std::uint64_t>();
-}
-}  // namespace
 
 ServerMessage ParseServerMessage(std::string_view text) {
   try {

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "common/log.hpp"
+#include "link/json_sequence.hpp"
 
 namespace pslam::agent {
 namespace {
@@ -31,7 +32,7 @@ std::optional<SessionState> LoadSessionState(const std::filesystem::path& file) 
   if (!in) return std::nullopt;
   try {
     const auto j = nlohmann::json::parse(in);
-    return SessionState{j.at("session_id").get<std::string>(), j.at("seq_base").get<std::uint64_t>()};
+    return SessionState{j.at("session_id").get<std::string>(), SequenceField(j, "seq_base")};
   } catch (const std::exception& e) {
     PSLAM_LOG(kWarning) << "ignoring unreadable session state " << file << ": " << e.what();
     return std::nullopt;
@@ -52,7 +53,7 @@ std::optional<ReplayPosition> LoadReplayPosition(const std::filesystem::path& fi
   if (!in) return std::nullopt;
   try {
     const auto j = nlohmann::json::parse(in);
-    return ReplayPosition{j.at("log").get<std::string>(), j.at("first_seq").get<std::uint64_t>()};
+    return ReplayPosition{j.at("log").get<std::string>(), SequenceField(j, "first_seq")};
   } catch (const std::exception& e) {
     PSLAM_LOG(kWarning) << "ignoring unreadable replay position " << file << ": " << e.what();
     return std::nullopt;
