@@ -4,15 +4,16 @@
 # pslam is. GMapping is built from a checkout of its source that you give (it is not packaged in
 # Debian): git clone https://github.com/ros-perception/openslam_gmapping
 # Both run with their defaults at the same particle count, pslam as the plain RBPF (--no-predict) on
-# one thread. gfs_nogui's main thread polls for the end of the run and keeps a second core busy,
+# one thread unless told otherwise. gfs_nogui's main thread polls for the end of the run and keeps a second core busy,
 # so runs go one at a time and the machine needs two free cores for fair times.
 #
 # Usage: tests/bench/gmapping_bench.sh --source DIR [--seeds LIST] [--particles N] [--logs NAME,...]
-#                                      [--data DIR]
+#                                      [--threads N] [--data DIR]
 #   --source DIR     a checkout of openslam_gmapping; built once into build/gmapping
 #   --seeds LIST     e.g. 1-3 (default), 1,3,7 or 1-3,9
 #   --particles N    particles for both (30, GMapping's default)
 #   --logs LIST      some of the logs, e.g. intel,aces (default: every one found)
+#   --threads N      threads for pslam (1; 0: every core, its default)
 #   --data DIR       the shared data folder (default: $PSLAM_DATA_DIR, else ../shared/data)
 # PSLAM_BIN=PATH runs that pslam binary instead of build/bin/pslam.
 set -euo pipefail
@@ -23,6 +24,7 @@ source_dir=
 seed_list=1-3
 particles=30
 log_list=
+threads=1
 data="${PSLAM_DATA_DIR:-../shared/data}"
 while (( $# )); do
   case $1 in
@@ -30,6 +32,7 @@ while (( $# )); do
     --seeds) seed_list=${2:?}; shift ;;
     --particles) particles=${2:?}; shift ;;
     --logs) log_list=${2:?}; shift ;;
+    --threads) threads=${2:?}; shift ;;
     --data) data=${2:?}; shift ;;
     -h|--help) usage ;;
     *) echo "gmapping_bench: unknown option '$1'" >&2; usage ;;
@@ -40,6 +43,7 @@ done
 [[ $source_dir == /* ]] || source_dir=$OLDPWD/$source_dir  # relative to where the script was called
 [[ -f $source_dir/gridfastslam/gridslamprocessor.cpp ]] || die "$source_dir is not an openslam_gmapping checkout"
 [[ $particles =~ ^[1-9][0-9]*$ ]] || die "--particles must be a positive integer, got '$particles'"
+[[ $threads =~ ^[0-9]+$ ]] || die "--threads must be a number, got '$threads'"
 [[ -x /usr/bin/time ]] || die "needs /usr/bin/time (Debian package 'time') for peak memory"
 parse_seeds "$seed_list"
 find_logs "$data" "$log_list"
@@ -103,7 +107,7 @@ for log in "${logs[@]}"; do
     g=$(summarize "$tmp/g.trajectory" "$relations" "$tmp/g.time")
     echo "gmapping_bench: $log seed $seed: pslam ..." >&2
     /usr/bin/time -v -o "$tmp/p.time" "$pslam" run --quiet --log "$clf" --particles "$particles" \
-      --seed "$seed" --no-predict --set threads=1 --trajectory "$tmp/p.trajectory" >/dev/null 2>"$tmp/p.err" ||
+      --seed "$seed" --no-predict --set threads="$threads" --trajectory "$tmp/p.trajectory" >/dev/null 2>"$tmp/p.err" ||
       die "pslam run failed on $log seed $seed: $(tail -n 3 "$tmp/p.err")"
     p=$(summarize "$tmp/p.trajectory" "$relations" "$tmp/p.time")
     rows+=("$log $seed $g $p")
@@ -111,7 +115,7 @@ for log in "${logs[@]}"; do
   done
 done
 
-echo "GMapping (gfs_nogui) and pslam run --no-predict --set threads=1, $particles particles, at $(measured_revision)"
+echo "GMapping (gfs_nogui) and pslam run --no-predict --set threads=$threads, $particles particles, at $(measured_revision)"
 echo
 printf '%s\n' "${rows[@]}" | awk '
   BEGIN {
