@@ -9,7 +9,7 @@
 #
 # Usage: tests/bench/gmapping_bench.sh --source DIR [--seeds LIST] [--particles N] [--logs NAME,...]
 #                                      [--threads N] [--data DIR]
-#   --source DIR     a checkout of openslam_gmapping; built once into build/gmapping
+#   --source DIR     a checkout of openslam_gmapping; built into build/gmapping (again for another DIR)
 #   --seeds LIST     e.g. 1-3 (default), 1,3,7 or 1-3,9
 #   --particles N    particles for both (30, GMapping's default)
 #   --logs LIST      some of the logs, e.g. intel,aces (default: every one found)
@@ -76,8 +76,10 @@ build_gmapping() {
   (cd "$src" && g++ "${flags[@]}" "${common[@]}" "${slam[@]}" -o "$out/gfs_nogui" -lpthread &&
    g++ "${flags[@]}" "${common[@]}" gridfastslam/gfs2log.cpp gridfastslam/gfsreader.cpp -o "$out/gfs2log") ||
     die "could not build GMapping from $src"
+  echo "$src" >"$out/source"
 }
-[[ -x $out/gfs_nogui && -x $out/gfs2log ]] || build_gmapping
+# Built again when asked for another checkout.
+[[ -x $out/gfs_nogui && -x $out/gfs2log && $(cat "$out/source" 2>/dev/null) == "$source_dir" ]] || build_gmapping
 
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
