@@ -15,7 +15,9 @@
 
 #include "experiment_common.hpp"
 #include "pslam/experiment/equal_coverage.hpp"
+#include "pslam/experiment/map_alignment.hpp"
 #include "pslam/experiment/map_similarity.hpp"
+#include "pslam/grid/grid_transform.hpp"
 #include "pslam/io/map_io.hpp"
 #include "pslam/predict/library_map.hpp"
 
@@ -51,6 +53,8 @@ struct ExploreRow {
   std::uint64_t seed = 0;
   ExplorationSummary summary;
   double map_psi = 0.0;            // built map against the true world
+  MapAlignment alignment;          // the built map laid best onto the true world
+  double aligned_map_psi = 0.0;    // map_psi after that alignment: the map's own consistency
   std::vector<double> psi_truth;   // per accepted hypothesis, against the true world
   std::vector<bool> from_library;  // per accepted hypothesis: its reference is a library map
   double merged_psi = std::numeric_limits<double>::quiet_NaN();
@@ -92,6 +96,9 @@ std::string RowJson(const ExploreRow& row) {
                      {"mean_position_error_m", JsonNumber(s.mean_position_error_m)},
                      {"max_position_error_m", JsonNumber(s.max_position_error_m)},
                      {"map_psi", JsonNumber(row.map_psi)},
+                     {"aligned_map_psi", JsonNumber(row.aligned_map_psi)},
+                     {"alignment_shift_m", JsonNumber(row.alignment.centre_shift)},
+                     {"alignment_turn_rad", JsonNumber(row.alignment.move.theta)},
                      {"merged_psi", JsonNumber(row.merged_psi)},
                      {"merged_predicted_area_m2", JsonNumber(row.merged_area_m2)},
                      {"mapped_or_predicted_fraction", JsonNumber(row.mapped_or_predicted)},
@@ -101,8 +108,8 @@ std::string RowJson(const ExploreRow& row) {
 }
 
 void PrintHeader() {
-  std::printf("%-24s %4s %8s %8s %7s %5s %5s  %-10s %9s %8s %7s %7s %8s\n", "run", "seed", "time_s", "dist_m", "targets",
-              "hyp", "coll", "state", "pos_err_m", "map_psi", "psi_hyp", "plan_ms", "max_ms");
+  std::printf("%-24s %4s %8s %8s %7s %5s %5s  %-10s %9s %8s %7s %7s %7s %8s\n", "run", "seed", "time_s", "dist_m", "targets",
+              "hyp", "coll", "state", "pos_err_m", "map_psi", "aligned", "psi_hyp", "plan_ms", "max_ms");
 }
 
 // Mean of the finite values (NaN: a hypothesis with no cell inside the world); 'count' gets how many.
@@ -120,9 +127,9 @@ double FiniteMean(const std::vector<double>& values, int* count = nullptr) {
 
 void PrintRow(const ExploreRow& row) {
   const ExplorationSummary& s = row.summary;
-  std::printf("%-24s %4llu %8.1f %8.1f %7d %5d %5zu  %-10s %9.3f %8.3f %7.3f %7.1f %8.1f\n", row.name.c_str(),
+  std::printf("%-24s %4llu %8.1f %8.1f %7d %5d %5zu  %-10s %9.3f %8.3f %7.3f %7.3f %7.1f %8.1f\n", row.name.c_str(),
               static_cast<unsigned long long>(row.seed), s.time_s, s.distance_m, s.targets, s.hypotheses,
-              s.collisions, ExplorationStateName(s.state), s.mean_position_error_m, row.map_psi,
+              s.collisions, ExplorationStateName(s.state), s.mean_position_error_m, row.map_psi, row.aligned_map_psi,
               FiniteMean(row.psi_truth), s.plans > 0 ? s.planning_ms / s.plans : 0.0, s.max_planning_ms);
 }
 
@@ -145,7 +152,10 @@ ExploreRow RunOne(const std::string& name, const WorldChoice& world, const Occup
   });
   progress.Finish();
   row.summary = run.Summary();
-  row.map_psi = BuiltMapSimilarity(run.slam().filter().best().map, truth);
+  const OccupancyGrid& built = run.slam().filter().best().map;
+  row.map_psi = BuiltMapSimilarity(built, truth);
+  row.alignment = AlignMap(built, truth);
+  row.aligned_map_psi = row.alignment.found ? BuiltMapSimilarity(TransformGrid(built, row.alignment.move), truth) : row.map_psi;
   for (const auto& cells : AcceptedCellsInWorld(run)) row.psi_truth.push_back(PredictionSimilarity(cells, truth));
   for (const Hypothesis& h : run.accepted_hypotheses()) row.from_library.push_back(!h.reference_map.empty());
   const JudgeAgreement agreement = CountJudgedAsTruth(run, row.psi_truth);
@@ -324,7 +334,7 @@ int RunExploreExperiment(CliArgs& cli) {
 
     // Population figures. Time figures only over pairs where neither run hit the time limit.
     std::vector<double> saved, equal_full, equal_skip, end_full, end_skip, merged_psi, hypothesis_psi, per_run_psi,
-        per_run_good, covered_full, covered_skip, hypotheses, map_psi_full, map_psi_skip;
+        per_run_good, covered_full, covered_skip, hypotheses, map_psi_full, map_psi_skip, aligned_full, aligned_skip;
     int incomplete_pairs = 0, time_limit_pairs = 0, full_limits = 0, skip_limits = 0, stopped_early = 0, judged = 0, judged_as_truth = 0;
     for (const ExplorePair& p : pairs) {
       full_limits += p.full.summary.state == ExplorationState::kTimeLimit;
@@ -335,6 +345,8 @@ int RunExploreExperiment(CliArgs& cli) {
       hypotheses.push_back(p.skip.summary.hypotheses);
       map_psi_full.push_back(p.full.map_psi);
       map_psi_skip.push_back(p.skip.map_psi);
+      aligned_full.push_back(p.full.aligned_map_psi);
+      aligned_skip.push_back(p.skip.aligned_map_psi);
       hypothesis_psi.insert(hypothesis_psi.end(), p.skip.psi_truth.begin(), p.skip.psi_truth.end());
       int scored = 0;
       per_run_psi.push_back(FiniteMean(p.skip.psi_truth, &scored));
@@ -385,6 +397,8 @@ int RunExploreExperiment(CliArgs& cli) {
                 judged_as_truth, judged, options.slam.judge.confirm_psi);
     std::printf("built map vs true world  Psi RBPF %s, P-SLAM %s\n", SpreadText(SpreadOf(map_psi_full)).c_str(),
                 SpreadText(SpreadOf(map_psi_skip)).c_str());
+    std::printf("  laid onto it first     Psi RBPF %s, P-SLAM %s\n", SpreadText(SpreadOf(aligned_full)).c_str(),
+                SpreadText(SpreadOf(aligned_skip)).c_str());
 
     if (json_path) {
       std::vector<std::string> rows;

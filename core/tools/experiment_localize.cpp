@@ -5,11 +5,13 @@
 #include <cstdio>
 #include <fstream>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "experiment_common.hpp"
 #include "pslam/experiment/localization_tour.hpp"
+#include "pslam/experiment/map_alignment.hpp"
 #include "pslam/io/map_io.hpp"
 
 namespace pslam {
@@ -30,7 +32,9 @@ constexpr const char* kUsage =
     "  kidnapping), the robot first turns once in place; --no-look-around drives on instead.\n"
     "  --mapping also runs the mapping filter over the tracking run's scans for its\n"
     "  CPU time. --trace writes 'distance truth_x truth_y truth_theta x y theta localized particles'\n"
-    "  per scan of the last global run. --set tunes a localization option:\n";
+    "  per scan of the last global run. With --map the figures are given twice: against the true\n"
+    "  pose, and against the true pose carried into the map's own frame (the map laid onto the world\n"
+    "  first), which leaves out how far the map itself sits off. --set tunes a localization option:\n";
 
 constexpr double kConverged = 0.2;  // m: global localization has converged below this error
 
@@ -41,6 +45,33 @@ void WriteTrace(const std::string& path, const std::vector<LocalizationSample>& 
         << s.estimate.y << ' ' << s.estimate.theta << ' ' << s.localized << ' ' << s.particles << '\n';
   }
   if (!out) throw std::runtime_error("cannot write " + path);
+}
+
+// The samples with the truth carried into a map's frame: 'map_to_world' lays the map onto the world.
+std::vector<LocalizationSample> InMapFrame(std::vector<LocalizationSample> samples, const Pose2D& map_to_world) {
+  const Pose2D world_to_map = map_to_world.inverse();
+  for (LocalizationSample& s : samples) s.truth = world_to_map * s.truth;
+  return samples;
+}
+
+// What one tracking run and one global run show, measured against the truth the samples carry.
+struct RunFigures {
+  TrackingError tracking;
+  std::optional<double> converged_after;  // m driven by the global run
+  int localized = 0;                      // scans the global run reported localized
+  int wrongly = 0;                        // ... with the estimate kConverged or more off
+};
+
+RunFigures Measure(const std::vector<LocalizationSample>& tracking, const std::vector<LocalizationSample>& global) {
+  RunFigures f;
+  f.tracking = MeasureTracking(tracking, 2.0);
+  f.converged_after = ConvergenceDistance(global, kConverged);
+  for (const LocalizationSample& s : global) {
+    if (!s.localized) continue;
+    ++f.localized;
+    if ((s.estimate.translation() - s.truth.translation()).norm() >= kConverged) ++f.wrongly;
+  }
+  return f;
 }
 
 double Mean(const std::vector<double>& v) {
@@ -88,11 +119,21 @@ int RunLocalizeExperiment(CliArgs& cli) {
 
   try {
     const OccupancyGrid map = map_path ? LoadMap(*map_path) : world->world.ToGrid();
+    // A map an earlier session built may sit off the world as a whole; the localizer can only be
+    // as right as its map, so with --map the figures are also taken in the map's own frame.
+    std::optional<MapAlignment> alignment;
+    if (map_path) alignment = AlignMap(map, world->world.ToGrid());
     std::vector<double> position, heading, converge, mcl_cpu, map_cpu, recover, false_localized;
-    int never = 0, unrecovered = 0;
+    std::vector<double> map_position, map_heading, map_converge, map_false_localized;
+    int never = 0, unrecovered = 0, map_never = 0;
     std::vector<LocalizationSample> last_global;
     std::printf("%s, %d run(s) of %.0f m%s%s\n", world->path.c_str(), runs, options.distance, map_path ? ", on " : "",
                 map_path ? map_path->c_str() : "");
+    if (alignment) {
+      std::printf("the map laid onto the world: %s, its middle moved %.3f m and turned %.2f deg\n",
+                  alignment->found ? "found" : "not found (no walls)", alignment->centre_shift,
+                  alignment->move.theta * 180.0 / std::numbers::pi);
+    }
     for (int r = 0; r < runs; ++r) {
       options.seed = first_seed + static_cast<std::uint64_t>(r);
       options.global = false;
@@ -103,16 +144,8 @@ int RunLocalizeExperiment(CliArgs& cli) {
       for (const LocalizationSample& s : track.samples) {
         if (s.distance < track_until) before.push_back(s);
       }
-      const TrackingError e = MeasureTracking(before, 2.0);
-      position.push_back(e.mean_position);
-      heading.push_back(e.mean_heading);
       mcl_cpu.push_back(track.localizer_cpu_ms_per_scan);
       if (mapping) map_cpu.push_back(track.mapping_cpu_ms_per_scan);
-      std::printf("seed %llu tracking: %.3f m, %.2f deg mean error (max %.2f m), particles %d..%d, %.2f ms CPU/scan",
-                  static_cast<unsigned long long>(options.seed), e.mean_position, e.mean_heading * 180.0 / std::numbers::pi,
-                  e.max_position, track.min_particles, track.max_particles, track.localizer_cpu_ms_per_scan);
-      if (mapping) std::printf(" (mapping filter %.2f ms)", track.mapping_cpu_ms_per_scan);
-      std::printf("\n");
       if (options.kidnap_after > 0.0) {
         const std::optional<double> back = ConvergenceDistance(track.samples, kConverged, options.kidnap_after);
         if (back) recover.push_back(*back);
@@ -125,26 +158,50 @@ int RunLocalizeExperiment(CliArgs& cli) {
       global.kidnap_after = 0.0;
       global.measure_mapping = false;
       const LocalizationTourResult found = RunLocalizationTour(world->world, map, world->start, global);
-      const std::optional<double> at = ConvergenceDistance(found.samples, kConverged);
+      last_global = found.samples;
+
+      const RunFigures f = Measure(before, found.samples);
+      position.push_back(f.tracking.mean_position);
+      heading.push_back(f.tracking.mean_heading);
       // Honesty: the share of scans that reported "localized" while the estimate was wrong.
-      int localized = 0, wrongly = 0;
-      for (const LocalizationSample& s : found.samples) {
-        if (!s.localized) continue;
-        ++localized;
-        if ((s.estimate.translation() - s.truth.translation()).norm() >= kConverged) ++wrongly;
-      }
-      false_localized.push_back(found.samples.empty() ? 0.0 : static_cast<double>(wrongly) / found.samples.size());
-      if (at) converge.push_back(*at);
+      false_localized.push_back(found.samples.empty() ? 0.0 : static_cast<double>(f.wrongly) / found.samples.size());
+      if (f.converged_after) converge.push_back(*f.converged_after);
       else ++never;
+      std::printf("seed %llu tracking: %.3f m, %.2f deg mean error (max %.2f m), particles %d..%d, %.2f ms CPU/scan",
+                  static_cast<unsigned long long>(options.seed), f.tracking.mean_position,
+                  f.tracking.mean_heading * 180.0 / std::numbers::pi, f.tracking.max_position, track.min_particles,
+                  track.max_particles, track.localizer_cpu_ms_per_scan);
+      if (mapping) std::printf(" (mapping filter %.2f ms)", track.mapping_cpu_ms_per_scan);
+      std::printf("\n");
       std::printf("seed %llu global: %s, localized at %d of %zu scans (wrongly at %d), %.2f ms CPU/scan\n",
                   static_cast<unsigned long long>(options.seed),
-                  at ? ("converged after " + std::to_string(*at) + " m").c_str() : "did not converge", localized,
-                  found.samples.size(), wrongly, found.localizer_cpu_ms_per_scan);
-      last_global = found.samples;
+                  f.converged_after ? ("converged after " + std::to_string(*f.converged_after) + " m").c_str()
+                                    : "did not converge",
+                  f.localized, found.samples.size(), f.wrongly, found.localizer_cpu_ms_per_scan);
+      if (alignment && alignment->found) {
+        const RunFigures m = Measure(InMapFrame(before, alignment->move), InMapFrame(found.samples, alignment->move));
+        map_position.push_back(m.tracking.mean_position);
+        map_heading.push_back(m.tracking.mean_heading);
+        map_false_localized.push_back(found.samples.empty() ? 0.0 : static_cast<double>(m.wrongly) / found.samples.size());
+        if (m.converged_after) map_converge.push_back(*m.converged_after);
+        else ++map_never;
+        std::printf("seed %llu in the map's frame: tracking %.3f m, %.2f deg; global %s, wrongly localized at %d\n",
+                    static_cast<unsigned long long>(options.seed), m.tracking.mean_position,
+                    m.tracking.mean_heading * 180.0 / std::numbers::pi,
+                    m.converged_after ? ("converged after " + std::to_string(*m.converged_after) + " m").c_str()
+                                      : "did not converge",
+                    m.wrongly);
+      }
     }
     std::printf("mean tracking error   %.3f m, %.2f deg\n", Mean(position), Mean(heading) * 180.0 / std::numbers::pi);
     std::printf("global localization   converged in %zu of %d runs, mean %.1f m driven; wrongly localized at %.1f %% of the scans\n",
                 converge.size(), runs, Mean(converge), 100.0 * Mean(false_localized));
+    if (!map_position.empty()) {
+      std::printf("in the map's frame    tracking %.3f m, %.2f deg; global converged in %zu of %d runs, mean %.1f m driven; "
+                  "wrongly localized at %.1f %% of the scans\n",
+                  Mean(map_position), Mean(map_heading) * 180.0 / std::numbers::pi, map_converge.size(), runs,
+                  Mean(map_converge), 100.0 * Mean(map_false_localized));
+    }
     if (options.kidnap_after > 0.0) std::printf("kidnapping            recovered in %zu of %d runs, mean %.1f m driven\n", recover.size(), runs, Mean(recover));
     std::printf("CPU per scan          %.2f ms localizing", Mean(mcl_cpu));
     if (mapping) std::printf(", %.2f ms mapping", Mean(map_cpu));
@@ -162,7 +219,12 @@ int RunLocalizeExperiment(CliArgs& cli) {
                                            {"kidnap_recovered_after_m", JsonArray(recover)},
                                            {"kidnap_not_recovered", JsonNumber(unrecovered)},
                                            {"localizer_cpu_ms_per_scan", JsonArray(mcl_cpu)},
-                                           {"mapping_cpu_ms_per_scan", JsonArray(map_cpu)}}));
+                                           {"mapping_cpu_ms_per_scan", JsonArray(map_cpu)},
+                                           {"map_frame_tracking_position_error_m", JsonArray(map_position)},
+                                           {"map_frame_tracking_heading_error_rad", JsonArray(map_heading)},
+                                           {"map_frame_global_converged_after_m", JsonArray(map_converge)},
+                                           {"map_frame_global_not_converged", JsonNumber(map_never)},
+                                           {"map_frame_global_wrongly_localized_share", JsonArray(map_false_localized)}}));
     }
     return 0;
   } catch (const std::exception& e) {

@@ -1,0 +1,31 @@
+#pragma once
+// The rigid motion that lays a built map best onto a reference map (the simulator's true world).
+// A map can be right wall for wall and still sit a few centimetres off, or a few milliradians
+// turned, as a whole: what the filter got wrong in its first metres fixes the frame everything
+// after is mapped in. Scored in the world's frame, that one offset counts against every wall.
+// Scored after this alignment, Psi says how consistent the map is, and the alignment how far its
+// frame moved. Found as a loop closure is: the map's occupied cells, thinned into a cloud, placed
+// on the reference by the branch-and-bound correlative search.
+#include "pslam/common/pose2d.hpp"
+#include "pslam/grid/occupancy_grid.hpp"
+#include "pslam/predict/map_raster.hpp"
+
+namespace pslam {
+
+struct MapAlignmentOptions {
+  double linear_window = 0.5;    // metres each way
+  double angular_window = 0.05;  // radians each way
+  double cloud_spacing = 0.1;    // metres between the occupied cells kept in the cloud
+  CellStateThresholds states;    // what counts as an occupied cell
+};
+
+struct MapAlignment {
+  bool found = false;  // false when the built map has no occupied cell, or nothing fits
+  Pose2D move;         // built map frame -> reference frame; identity when not found
+  double centre_shift = 0.0;  // metres the middle of the built map's known area moves
+  double score = 0.0;  // mean likelihood-field value of the cloud on the reference, in [0, 1]
+};
+
+MapAlignment AlignMap(const OccupancyGrid& built, const OccupancyGrid& reference, const MapAlignmentOptions& options = {});
+
+}  // namespace pslam
