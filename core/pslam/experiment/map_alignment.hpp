@@ -1,8 +1,9 @@
 #pragma once
-// The rigid motion that lays a built map best onto a reference map (the simulator's true world).
-// A map can be right wall for wall and still sit a few centimetres off, or a few milliradians
-// turned, as a whole: what the filter got wrong in its first metres fixes the frame everything
-// after is mapped in. Scored in the world's frame, that one offset counts against every wall.
+// The rigid motion that lays a built map best onto a reference map (the simulator's true world, a
+// floor plan). A map can be right wall for wall and still sit a few centimetres off, or a few
+// milliradians turned, as a whole: a pose error the filter made while mapping new ground carries
+// into all it maps from there, and later visits map the older parts again at that pose. Scored
+// in the world's frame, that one offset counts against every wall.
 // Scored after this alignment, Psi says how consistent the map is, and the alignment how far its
 // frame moved. Found as a loop closure is: the map's occupied cells, thinned into a cloud, placed
 // on the reference by the branch-and-bound correlative search.
