@@ -17,7 +17,6 @@
 #include "pslam/experiment/equal_coverage.hpp"
 #include "pslam/experiment/map_alignment.hpp"
 #include "pslam/experiment/map_similarity.hpp"
-#include "pslam/grid/grid_transform.hpp"
 #include "pslam/io/map_io.hpp"
 #include "pslam/predict/library_map.hpp"
 
@@ -53,8 +52,7 @@ struct ExploreRow {
   std::uint64_t seed = 0;
   ExplorationSummary summary;
   double map_psi = 0.0;            // built map against the true world
-  MapAlignment alignment;          // the built map laid best onto the true world
-  double aligned_map_psi = 0.0;    // map_psi after that alignment: the map's own consistency
+  MapAlignment alignment;          // the built map laid best onto the true world (its laid_psi)
   std::vector<double> psi_truth;   // per accepted hypothesis, against the true world
   std::vector<bool> from_library;  // per accepted hypothesis: its reference is a library map
   double merged_psi = std::numeric_limits<double>::quiet_NaN();
@@ -96,7 +94,7 @@ std::string RowJson(const ExploreRow& row) {
                      {"mean_position_error_m", JsonNumber(s.mean_position_error_m)},
                      {"max_position_error_m", JsonNumber(s.max_position_error_m)},
                      {"map_psi", JsonNumber(row.map_psi)},
-                     {"aligned_map_psi", JsonNumber(row.aligned_map_psi)},
+                     {"aligned_map_psi", JsonNumber(row.alignment.laid_psi)},
                      {"alignment_shift_m", JsonNumber(row.alignment.centre_shift)},
                      {"alignment_turn_rad", JsonNumber(row.alignment.move.theta)},
                      {"merged_psi", JsonNumber(row.merged_psi)},
@@ -129,7 +127,7 @@ void PrintRow(const ExploreRow& row) {
   const ExplorationSummary& s = row.summary;
   std::printf("%-24s %4llu %8.1f %8.1f %7d %5d %5zu  %-10s %9.3f %8.3f %7.3f %7.3f %7.1f %8.1f\n", row.name.c_str(),
               static_cast<unsigned long long>(row.seed), s.time_s, s.distance_m, s.targets, s.hypotheses,
-              s.collisions, ExplorationStateName(s.state), s.mean_position_error_m, row.map_psi, row.aligned_map_psi,
+              s.collisions, ExplorationStateName(s.state), s.mean_position_error_m, row.map_psi, row.alignment.laid_psi,
               FiniteMean(row.psi_truth), s.plans > 0 ? s.planning_ms / s.plans : 0.0, s.max_planning_ms);
 }
 
@@ -153,9 +151,8 @@ ExploreRow RunOne(const std::string& name, const WorldChoice& world, const Occup
   progress.Finish();
   row.summary = run.Summary();
   const OccupancyGrid& built = run.slam().filter().best().map;
-  row.map_psi = BuiltMapSimilarity(built, truth);
   row.alignment = AlignMap(built, truth);
-  row.aligned_map_psi = row.alignment.found ? BuiltMapSimilarity(TransformGrid(built, row.alignment.move), truth) : row.map_psi;
+  row.map_psi = row.alignment.psi;
   for (const auto& cells : AcceptedCellsInWorld(run)) row.psi_truth.push_back(PredictionSimilarity(cells, truth));
   for (const Hypothesis& h : run.accepted_hypotheses()) row.from_library.push_back(!h.reference_map.empty());
   const JudgeAgreement agreement = CountJudgedAsTruth(run, row.psi_truth);
@@ -345,8 +342,8 @@ int RunExploreExperiment(CliArgs& cli) {
       hypotheses.push_back(p.skip.summary.hypotheses);
       map_psi_full.push_back(p.full.map_psi);
       map_psi_skip.push_back(p.skip.map_psi);
-      aligned_full.push_back(p.full.aligned_map_psi);
-      aligned_skip.push_back(p.skip.aligned_map_psi);
+      aligned_full.push_back(p.full.alignment.laid_psi);
+      aligned_skip.push_back(p.skip.alignment.laid_psi);
       hypothesis_psi.insert(hypothesis_psi.end(), p.skip.psi_truth.begin(), p.skip.psi_truth.end());
       int scored = 0;
       per_run_psi.push_back(FiniteMean(p.skip.psi_truth, &scored));

@@ -130,9 +130,9 @@ int RunLocalizeExperiment(CliArgs& cli) {
     std::printf("%s, %d run(s) of %.0f m%s%s\n", world->path.c_str(), runs, options.distance, map_path ? ", on " : "",
                 map_path ? map_path->c_str() : "");
     if (alignment) {
-      std::printf("the map laid onto the world: %s, its middle moved %.3f m and turned %.2f deg\n",
-                  alignment->found ? "found" : "not found (no walls)", alignment->centre_shift,
-                  alignment->move.theta * 180.0 / std::numbers::pi);
+      std::printf("the map laid onto the world: its middle moved %.3f m and turned %.2f deg (Psi %.3f as it lies, %.3f laid onto it)\n",
+                  alignment->centre_shift, alignment->move.theta * 180.0 / std::numbers::pi, alignment->psi,
+                  alignment->laid_psi);
     }
     for (int r = 0; r < runs; ++r) {
       options.seed = first_seed + static_cast<std::uint64_t>(r);
@@ -178,7 +178,7 @@ int RunLocalizeExperiment(CliArgs& cli) {
                   f.converged_after ? ("converged after " + std::to_string(*f.converged_after) + " m").c_str()
                                     : "did not converge",
                   f.localized, found.samples.size(), f.wrongly, found.localizer_cpu_ms_per_scan);
-      if (alignment && alignment->found) {
+      if (alignment) {
         const RunFigures m = Measure(InMapFrame(before, alignment->move), InMapFrame(found.samples, alignment->move));
         map_position.push_back(m.tracking.mean_position);
         map_heading.push_back(m.tracking.mean_heading);

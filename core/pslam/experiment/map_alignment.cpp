@@ -2,17 +2,27 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <unordered_set>
 #include <vector>
 
+#include "pslam/experiment/map_similarity.hpp"
 #include "pslam/graph/branch_and_bound_matcher.hpp"
 #include "pslam/grid/cell_key.hpp"
+#include "pslam/grid/grid_transform.hpp"
 #include "pslam/matching/scan_matcher.hpp"
 
 namespace pslam {
 
 MapAlignment AlignMap(const OccupancyGrid& built, const OccupancyGrid& reference, const MapAlignmentOptions& options) {
+  if (std::abs(built.resolution() - reference.resolution()) > 1e-9 * reference.resolution()) {
+    throw std::invalid_argument("map resolutions differ: reference " + std::to_string(reference.resolution()) +
+                                " m, built " + std::to_string(built.resolution()) + " m");
+  }
+  const SimilarityOptions similarity{.states = options.states};
   MapAlignment out;
+  out.psi = out.laid_psi = BuiltMapSimilarity(built, reference, similarity);
   const CellBox box = built.KnownBounds();
   if (box.empty()) return out;
   // One occupied cell per cloud_spacing square, relative to the map's centre, so that the search
@@ -33,21 +43,26 @@ MapAlignment AlignMap(const OccupancyGrid& built, const OccupancyGrid& reference
     }
   }
   if (cloud.empty()) return out;
-  const int depth = std::max(1, static_cast<int>(std::ceil(std::log2(options.linear_window / reference.resolution() + 1.0))));
+  const int depth = std::max(1, static_cast<int>(std::ceil(std::log2(options.linear_window / resolution + 1.0))));
   const MaxPoolStack stack(reference, depth);
   const BranchAndBoundOptions search{.linear_window = options.linear_window,
                                      .angular_window = options.angular_window,
                                      .min_score = 0.0};
-  const BranchAndBoundResult result = MatchByBranchAndBound(stack, cloud, Pose2D{centre.x(), centre.y(), 0.0}, search);
-  if (!result.found) return out;
+  const BranchAndBoundResult found = MatchByBranchAndBound(stack, cloud, Pose2D{centre.x(), centre.y(), 0.0}, search);
+  if (!found.found) return out;
   // The search steps the angle by about a cell at the cloud's far end; the finest level of the
-  // scan matcher finishes the job between those steps.
-  const ScanMatchResult refined = MatchScan(reference, cloud, result.pose, ScanMatchOptions{.coarsest_level = 0});
-  const Pose2D at = refined.converged ? refined.pose : result.pose;
-  out.found = true;
-  out.score = result.score;
-  out.move = at * Pose2D{-centre.x(), -centre.y(), 0.0};
-  out.centre_shift = std::hypot(at.x - centre.x(), at.y - centre.y());
+  // scan matcher goes on between those steps.
+  std::vector<Pose2D> poses{found.pose};
+  const ScanMatchResult refined = MatchScan(reference, cloud, found.pose, ScanMatchOptions{.coarsest_level = 0});
+  if (refined.converged) poses.push_back(refined.pose);
+  for (const Pose2D& at : poses) {
+    const Pose2D move = at * Pose2D{-centre.x(), -centre.y(), 0.0};
+    const double psi = BuiltMapSimilarity(TransformGrid(built, move), reference, similarity);
+    if (psi <= out.laid_psi) continue;
+    out.move = move;
+    out.laid_psi = psi;
+    out.centre_shift = std::hypot(at.x - centre.x(), at.y - centre.y());
+  }
   return out;
 }
 

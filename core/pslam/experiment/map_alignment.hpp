@@ -21,12 +21,16 @@ struct MapAlignmentOptions {
 };
 
 struct MapAlignment {
-  bool found = false;  // false when the built map has no occupied cell, or nothing fits
-  Pose2D move;         // built map frame -> reference frame; identity when not found
+  Pose2D move;                // built map frame -> reference frame
   double centre_shift = 0.0;  // metres the middle of the built map's known area moves
-  double score = 0.0;  // mean likelihood-field value of the cloud on the reference, in [0, 1]
+  double psi = 0.0;           // BuiltMapSimilarity of the map as it lies
+  double laid_psi = 0.0;      // ... and moved by 'move': never below psi
 };
 
+// The search's pose, its refinement and the identity are each scored by Psi, and the best is
+// kept: the search's own score (points on walls) and Psi (walls matched both ways, on cells a
+// move resamples) need not agree by a few hundredths, and a map already in place stays there.
+// Throws std::invalid_argument if the maps' resolutions differ.
 MapAlignment AlignMap(const OccupancyGrid& built, const OccupancyGrid& reference, const MapAlignmentOptions& options = {});
 
 }  // namespace pslam
