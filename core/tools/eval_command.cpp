@@ -78,18 +78,17 @@ int PrintRpe(const std::string& trajectory_path, const std::string& relations_pa
 int PrintMapComparison(const std::string& map_path, const std::string& reference_path, bool json) {
   const OccupancyGrid map = LoadMap(map_path), reference = LoadMap(reference_path);
   const MapDivergence d = ComputeMapDivergence(reference, map);  // throws unless both share a resolution
-  const MapAlignment alignment = AlignMap(map, reference);
-  const double psi = alignment.psi, laid_psi = alignment.laid_psi;
+  const MapAlignment a = AlignMap(map, reference);
   if (json) {
     std::printf("{\"kl\": %.9g, \"cells\": %zu, \"psi\": %.6f, \"psi_laid_onto\": %.6f, \"laid_onto_shift_m\": %.6f, "
                 "\"laid_onto_turn_rad\": %.6f}\n",
-                d.kl, d.cells, psi, laid_psi, alignment.centre_shift, alignment.move.theta);
+                d.kl, d.cells, a.psi, a.laid_psi, a.centre_shift, a.move.theta);
     return 0;
   }
   std::printf("KL divergence D_KL(reference || map): %.6g nats over %zu reference cells\n", d.kl, d.cells);
-  std::printf("Psi of the map's walls against the reference's: %.3f as it lies, %.3f laid onto it\n", psi, laid_psi);
-  std::printf("laid onto it: the map's middle moved %.3f m and turned %.2f deg\n", alignment.centre_shift,
-              alignment.move.theta * 180.0 / std::numbers::pi);
+  std::printf("Psi of the map's walls against the reference's: %.3f as it lies, %.3f laid onto it\n", a.psi, a.laid_psi);
+  std::printf("laid onto it: the map's middle moved %.3f m and turned %.2f deg\n", a.centre_shift,
+              a.move.theta * 180.0 / std::numbers::pi);
   return 0;
 }
 

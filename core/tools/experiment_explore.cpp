@@ -51,8 +51,7 @@ struct ExploreRow {
   std::string world;
   std::uint64_t seed = 0;
   ExplorationSummary summary;
-  double map_psi = 0.0;            // built map against the true world
-  MapAlignment alignment;          // the built map laid best onto the true world (its laid_psi)
+  MapAlignment alignment;          // built map against the true world: psi as it lies, laid_psi laid onto it
   std::vector<double> psi_truth;   // per accepted hypothesis, against the true world
   std::vector<bool> from_library;  // per accepted hypothesis: its reference is a library map
   double merged_psi = std::numeric_limits<double>::quiet_NaN();
@@ -93,7 +92,7 @@ std::string RowJson(const ExploreRow& row) {
                      {"judged_as_truth", JsonNumber(row.judged_as_truth)},
                      {"mean_position_error_m", JsonNumber(s.mean_position_error_m)},
                      {"max_position_error_m", JsonNumber(s.max_position_error_m)},
-                     {"map_psi", JsonNumber(row.map_psi)},
+                     {"map_psi", JsonNumber(row.alignment.psi)},
                      {"aligned_map_psi", JsonNumber(row.alignment.laid_psi)},
                      {"alignment_shift_m", JsonNumber(row.alignment.centre_shift)},
                      {"alignment_turn_rad", JsonNumber(row.alignment.move.theta)},
@@ -127,7 +126,7 @@ void PrintRow(const ExploreRow& row) {
   const ExplorationSummary& s = row.summary;
   std::printf("%-24s %4llu %8.1f %8.1f %7d %5d %5zu  %-10s %9.3f %8.3f %7.3f %7.3f %7.1f %8.1f\n", row.name.c_str(),
               static_cast<unsigned long long>(row.seed), s.time_s, s.distance_m, s.targets, s.hypotheses,
-              s.collisions, ExplorationStateName(s.state), s.mean_position_error_m, row.map_psi, row.alignment.laid_psi,
+              s.collisions, ExplorationStateName(s.state), s.mean_position_error_m, row.alignment.psi, row.alignment.laid_psi,
               FiniteMean(row.psi_truth), s.plans > 0 ? s.planning_ms / s.plans : 0.0, s.max_planning_ms);
 }
 
@@ -152,7 +151,6 @@ ExploreRow RunOne(const std::string& name, const WorldChoice& world, const Occup
   row.summary = run.Summary();
   const OccupancyGrid& built = run.slam().filter().best().map;
   row.alignment = AlignMap(built, truth);
-  row.map_psi = row.alignment.psi;
   for (const auto& cells : AcceptedCellsInWorld(run)) row.psi_truth.push_back(PredictionSimilarity(cells, truth));
   for (const Hypothesis& h : run.accepted_hypotheses()) row.from_library.push_back(!h.reference_map.empty());
   const JudgeAgreement agreement = CountJudgedAsTruth(run, row.psi_truth);
@@ -340,8 +338,8 @@ int RunExploreExperiment(CliArgs& cli) {
       covered_full.push_back(p.full.mapped_or_predicted);
       covered_skip.push_back(p.skip.mapped_or_predicted);
       hypotheses.push_back(p.skip.summary.hypotheses);
-      map_psi_full.push_back(p.full.map_psi);
-      map_psi_skip.push_back(p.skip.map_psi);
+      map_psi_full.push_back(p.full.alignment.psi);
+      map_psi_skip.push_back(p.skip.alignment.psi);
       aligned_full.push_back(p.full.alignment.laid_psi);
       aligned_skip.push_back(p.skip.alignment.laid_psi);
       hypothesis_psi.insert(hypothesis_psi.end(), p.skip.psi_truth.begin(), p.skip.psi_truth.end());

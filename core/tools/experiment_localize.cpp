@@ -7,6 +7,7 @@
 #include <numbers>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "experiment_common.hpp"
@@ -60,6 +61,7 @@ struct RunFigures {
   std::optional<double> converged_after;  // m driven by the global run
   int localized = 0;                      // scans the global run reported localized
   int wrongly = 0;                        // ... with the estimate kConverged or more off
+  double wrongly_share = 0.0;             // wrongly over all the global run's scans
 };
 
 RunFigures Measure(const std::vector<LocalizationSample>& tracking, const std::vector<LocalizationSample>& global) {
@@ -71,8 +73,36 @@ RunFigures Measure(const std::vector<LocalizationSample>& tracking, const std::v
     ++f.localized;
     if ((s.estimate.translation() - s.truth.translation()).norm() >= kConverged) ++f.wrongly;
   }
+  // Honesty: the share of scans that reported "localized" while the estimate was wrong.
+  f.wrongly_share = global.empty() ? 0.0 : static_cast<double>(f.wrongly) / static_cast<double>(global.size());
   return f;
 }
+
+std::string ConvergenceText(const RunFigures& f) {
+  return f.converged_after ? "converged after " + std::to_string(*f.converged_after) + " m" : "did not converge";
+}
+
+// The figures of every run, against one truth.
+struct FigureSeries {
+  std::vector<double> position, heading, converge, wrongly_share;
+  int never = 0;
+
+  void Add(const RunFigures& f) {
+    position.push_back(f.tracking.mean_position);
+    heading.push_back(f.tracking.mean_heading);
+    wrongly_share.push_back(f.wrongly_share);
+    if (f.converged_after) converge.push_back(*f.converged_after);
+    else ++never;
+  }
+  // The JSON members, each name prefixed.
+  std::vector<std::pair<std::string, std::string>> Json(const std::string& prefix) const {
+    return {{prefix + "tracking_position_error_m", JsonArray(position)},
+            {prefix + "tracking_heading_error_rad", JsonArray(heading)},
+            {prefix + "global_converged_after_m", JsonArray(converge)},
+            {prefix + "global_not_converged", JsonNumber(never)},
+            {prefix + "global_wrongly_localized_share", JsonArray(wrongly_share)}};
+  }
+};
 
 double Mean(const std::vector<double>& v) {
   double sum = 0.0;
@@ -123,9 +153,9 @@ int RunLocalizeExperiment(CliArgs& cli) {
     // as right as its map, so with --map the figures are also taken in the map's own frame.
     std::optional<MapAlignment> alignment;
     if (map_path) alignment = AlignMap(map, world->world.ToGrid());
-    std::vector<double> position, heading, converge, mcl_cpu, map_cpu, recover, false_localized;
-    std::vector<double> map_position, map_heading, map_converge, map_false_localized;
-    int never = 0, unrecovered = 0, map_never = 0;
+    FigureSeries truth_figures, map_figures;  // against the true pose; in the map's own frame
+    std::vector<double> mcl_cpu, map_cpu, recover;
+    int unrecovered = 0;
     std::vector<LocalizationSample> last_global;
     std::printf("%s, %d run(s) of %.0f m%s%s\n", world->path.c_str(), runs, options.distance, map_path ? ", on " : "",
                 map_path ? map_path->c_str() : "");
@@ -161,12 +191,7 @@ int RunLocalizeExperiment(CliArgs& cli) {
       last_global = found.samples;
 
       const RunFigures f = Measure(before, found.samples);
-      position.push_back(f.tracking.mean_position);
-      heading.push_back(f.tracking.mean_heading);
-      // Honesty: the share of scans that reported "localized" while the estimate was wrong.
-      false_localized.push_back(found.samples.empty() ? 0.0 : static_cast<double>(f.wrongly) / found.samples.size());
-      if (f.converged_after) converge.push_back(*f.converged_after);
-      else ++never;
+      truth_figures.Add(f);
       std::printf("seed %llu tracking: %.3f m, %.2f deg mean error (max %.2f m), particles %d..%d, %.2f ms CPU/scan",
                   static_cast<unsigned long long>(options.seed), f.tracking.mean_position,
                   f.tracking.mean_heading * 180.0 / std::numbers::pi, f.tracking.max_position, track.min_particles,
@@ -174,33 +199,26 @@ int RunLocalizeExperiment(CliArgs& cli) {
       if (mapping) std::printf(" (mapping filter %.2f ms)", track.mapping_cpu_ms_per_scan);
       std::printf("\n");
       std::printf("seed %llu global: %s, localized at %d of %zu scans (wrongly at %d), %.2f ms CPU/scan\n",
-                  static_cast<unsigned long long>(options.seed),
-                  f.converged_after ? ("converged after " + std::to_string(*f.converged_after) + " m").c_str()
-                                    : "did not converge",
-                  f.localized, found.samples.size(), f.wrongly, found.localizer_cpu_ms_per_scan);
+                  static_cast<unsigned long long>(options.seed), ConvergenceText(f).c_str(), f.localized,
+                  found.samples.size(), f.wrongly, found.localizer_cpu_ms_per_scan);
       if (alignment) {
         const RunFigures m = Measure(InMapFrame(before, alignment->move), InMapFrame(found.samples, alignment->move));
-        map_position.push_back(m.tracking.mean_position);
-        map_heading.push_back(m.tracking.mean_heading);
-        map_false_localized.push_back(found.samples.empty() ? 0.0 : static_cast<double>(m.wrongly) / found.samples.size());
-        if (m.converged_after) map_converge.push_back(*m.converged_after);
-        else ++map_never;
+        map_figures.Add(m);
         std::printf("seed %llu in the map's frame: tracking %.3f m, %.2f deg; global %s, wrongly localized at %d\n",
                     static_cast<unsigned long long>(options.seed), m.tracking.mean_position,
-                    m.tracking.mean_heading * 180.0 / std::numbers::pi,
-                    m.converged_after ? ("converged after " + std::to_string(*m.converged_after) + " m").c_str()
-                                      : "did not converge",
-                    m.wrongly);
+                    m.tracking.mean_heading * 180.0 / std::numbers::pi, ConvergenceText(m).c_str(), m.wrongly);
       }
     }
-    std::printf("mean tracking error   %.3f m, %.2f deg\n", Mean(position), Mean(heading) * 180.0 / std::numbers::pi);
+    const FigureSeries& t = truth_figures;
+    std::printf("mean tracking error   %.3f m, %.2f deg\n", Mean(t.position), Mean(t.heading) * 180.0 / std::numbers::pi);
     std::printf("global localization   converged in %zu of %d runs, mean %.1f m driven; wrongly localized at %.1f %% of the scans\n",
-                converge.size(), runs, Mean(converge), 100.0 * Mean(false_localized));
-    if (!map_position.empty()) {
+                t.converge.size(), runs, Mean(t.converge), 100.0 * Mean(t.wrongly_share));
+    if (alignment) {
+      const FigureSeries& m = map_figures;
       std::printf("in the map's frame    tracking %.3f m, %.2f deg; global converged in %zu of %d runs, mean %.1f m driven; "
                   "wrongly localized at %.1f %% of the scans\n",
-                  Mean(map_position), Mean(map_heading) * 180.0 / std::numbers::pi, map_converge.size(), runs,
-                  Mean(map_converge), 100.0 * Mean(map_false_localized));
+                  Mean(m.position), Mean(m.heading) * 180.0 / std::numbers::pi, m.converge.size(), runs,
+                  Mean(m.converge), 100.0 * Mean(m.wrongly_share));
     }
     if (options.kidnap_after > 0.0) std::printf("kidnapping            recovered in %zu of %d runs, mean %.1f m driven\n", recover.size(), runs, Mean(recover));
     std::printf("CPU per scan          %.2f ms localizing", Mean(mcl_cpu));
@@ -208,23 +226,16 @@ int RunLocalizeExperiment(CliArgs& cli) {
     std::printf("\n");
     if (trace) WriteTrace(*trace, last_global);
     if (json_path) {
-      WriteJsonFile(*json_path, JsonObject({{"world", JsonString(world->path)},
-                                           {"map", JsonString(map_path ? *map_path : world->path)},
-                                           {"runs", JsonNumber(runs)},
-                                           {"tracking_position_error_m", JsonArray(position)},
-                                           {"tracking_heading_error_rad", JsonArray(heading)},
-                                           {"global_converged_after_m", JsonArray(converge)},
-                                           {"global_not_converged", JsonNumber(never)},
-                                           {"global_wrongly_localized_share", JsonArray(false_localized)},
-                                           {"kidnap_recovered_after_m", JsonArray(recover)},
-                                           {"kidnap_not_recovered", JsonNumber(unrecovered)},
-                                           {"localizer_cpu_ms_per_scan", JsonArray(mcl_cpu)},
-                                           {"mapping_cpu_ms_per_scan", JsonArray(map_cpu)},
-                                           {"map_frame_tracking_position_error_m", JsonArray(map_position)},
-                                           {"map_frame_tracking_heading_error_rad", JsonArray(map_heading)},
-                                           {"map_frame_global_converged_after_m", JsonArray(map_converge)},
-                                           {"map_frame_global_not_converged", JsonNumber(map_never)},
-                                           {"map_frame_global_wrongly_localized_share", JsonArray(map_false_localized)}}));
+      std::vector<std::pair<std::string, std::string>> members{{"world", JsonString(world->path)},
+                                                               {"map", JsonString(map_path ? *map_path : world->path)},
+                                                               {"runs", JsonNumber(runs)}};
+      for (auto& m : truth_figures.Json("")) members.push_back(std::move(m));
+      members.insert(members.end(), {{"kidnap_recovered_after_m", JsonArray(recover)},
+                                     {"kidnap_not_recovered", JsonNumber(unrecovered)},
+                                     {"localizer_cpu_ms_per_scan", JsonArray(mcl_cpu)},
+                                     {"mapping_cpu_ms_per_scan", JsonArray(map_cpu)}});
+      for (auto& m : map_figures.Json("map_frame_")) members.push_back(std::move(m));
+      WriteJsonFile(*json_path, JsonObject(members));
     }
     return 0;
   } catch (const std::exception& e) {
