@@ -1,6 +1,7 @@
 #include "pslam/matching/occupancy_field.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -8,8 +9,10 @@
 
 namespace pslam {
 namespace {
+// Built once at load, at file scope: the matcher reads it for every cell it touches, and a
+// function-local static would be checked for initialisation on every read.
 struct EvidenceTable {
-  std::vector<float> v = std::vector<float>(1 << 16);
+  std::array<float, 1 << 16> v;
   EvidenceTable() {
     for (int c = -32768; c <= 32767; ++c) {
       const float p = CellProbability(static_cast<OccupancyGrid::Cell>(c));
@@ -17,12 +20,12 @@ struct EvidenceTable {
     }
   }
 };
+const EvidenceTable kEvidence;
+
+inline float Evidence(OccupancyGrid::Cell c) { return kEvidence.v[static_cast<std::uint16_t>(c)]; }
 }  // namespace
 
-float CellEvidence(OccupancyGrid::Cell c) {
-  static const EvidenceTable table;
-  return table.v[static_cast<std::uint16_t>(c)];
-}
+float CellEvidence(OccupancyGrid::Cell c) { return Evidence(c); }
 
 OccupancyField::OccupancyField(const OccupancyGrid& grid, int level, bool hit_offsets)
     : grid_(grid),
@@ -32,7 +35,7 @@ OccupancyField::OccupancyField(const OccupancyGrid& grid, int level, bool hit_of
       per_cell_(static_cast<float>(1.0 / cell_size_)) {}
 
 float OccupancyField::Coarse(int i, int j) const {
-  if (level_ == 0) return CellEvidence(grid_.At(i, j));
+  if (level_ == 0) return Evidence(grid_.At(i, j));
   // A match reads the same few hundred pooled cells over and over: remember them. A slot taken by
   // another block only costs that block's maximum again.
   const std::uint64_t key = CellKey(i, j);
@@ -48,12 +51,12 @@ float OccupancyField::Coarse(int i, int j) const {
     const int x0 = i * n, y0 = j * n;
     if (const OccupancyGrid::Tile* tile = grid_.TileAt(x0 >> OccupancyGrid::kTileBits, y0 >> OccupancyGrid::kTileBits)) {
       for (int y = y0; y < y0 + n; ++y) {
-        for (int x = x0; x < x0 + n; ++x) best = std::max(best, CellEvidence(tile->cells[OccupancyGrid::Local(x, y)]));
+        for (int x = x0; x < x0 + n; ++x) best = std::max(best, Evidence(tile->cells[OccupancyGrid::Local(x, y)]));
       }
     }
   } else {
     for (int y = j * n; y < (j + 1) * n; ++y) {
-      for (int x = i * n; x < (i + 1) * n; ++x) best = std::max(best, CellEvidence(grid_.At(x, y)));
+      for (int x = i * n; x < (i + 1) * n; ++x) best = std::max(best, Evidence(grid_.At(x, y)));
     }
   }
   slot = {key, best, true};
@@ -87,7 +90,11 @@ struct Stencil {
 
 void OccupancyField::Corners(int i, int j, float (&value)[4], HitOffsets* offset) const {
   if (level_ > 0) {
-    value[0] = Coarse(i, j), value[1] = Coarse(i + 1, j), value[2] = Coarse(i, j + 1), value[3] = Coarse(i + 1, j + 1);
+    // Neighbouring beams mostly fall between the same four coarse cells.
+    if (!last_corners_.filled || last_corners_.i != i || last_corners_.j != j) {
+      last_corners_ = {i, j, {Coarse(i, j), Coarse(i + 1, j), Coarse(i, j + 1), Coarse(i + 1, j + 1)}, true};
+    }
+    std::copy(std::begin(last_corners_.value), std::end(last_corners_.value), value);
     return;
   }
   constexpr int kBits = OccupancyGrid::kTileBits;
@@ -98,7 +105,7 @@ void OccupancyField::Corners(int i, int j, float (&value)[4], HitOffsets* offset
   for (int k = 0; k < 4; ++k) {
     const OccupancyGrid::Tile* tile = one_tile ? shared : grid_.TileAt(cx[k] >> kBits, cy[k] >> kBits);
     const int local = OccupancyGrid::Local(cx[k], cy[k]);
-    value[k] = tile ? CellEvidence(tile->cells[local]) : 0.0f;
+    value[k] = tile ? Evidence(tile->cells[local]) : 0.0f;
     if (offset) {
       offset->x[k] = tile ? tile->hit_x[local] : 0.0f;
       offset->y[k] = tile ? tile->hit_y[local] : 0.0f;

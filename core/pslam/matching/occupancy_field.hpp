@@ -44,6 +44,13 @@ class OccupancyField {
   };
   static constexpr std::size_t kPooledSlots = 1024;
   mutable std::vector<PooledSlot> pooled_;
+  // Coarse levels: the four values Corners() read last.
+  struct LastCorners {
+    int i = 0, j = 0;
+    float value[4] = {};
+    bool filled = false;
+  };
+  mutable LastCorners last_corners_;
 };
 
 // Table lookup of max(0, 2p - 1) for a stored cell value.

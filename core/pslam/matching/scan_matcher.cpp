@@ -33,9 +33,12 @@ Linearization Linearize(const OccupancyField& field, const std::vector<Eigen::Ve
     // d(world)/d(theta) = (-s px - c py, c px - s py)
     const float dth = grad.x() * (-s * p.x() - c * p.y()) + grad.y() * (c * p.x() - s * p.y());
     const Eigen::Vector3d J(grad.x(), grad.y(), dth);
-    lin.H.noalias() += J * J.transpose();
+    // J J^T is symmetric: sum its upper triangle and mirror it once at the end.
+    lin.H(0, 0) += J(0) * J(0), lin.H(0, 1) += J(0) * J(1), lin.H(0, 2) += J(0) * J(2);
+    lin.H(1, 1) += J(1) * J(1), lin.H(1, 2) += J(1) * J(2), lin.H(2, 2) += J(2) * J(2);
     lin.g.noalias() += J * r;
   }
+  lin.H(1, 0) = lin.H(0, 1), lin.H(2, 0) = lin.H(0, 2), lin.H(2, 1) = lin.H(1, 2);
   lin.scan_hessian = lin.H;
   return lin;
 }
