@@ -139,6 +139,8 @@ const char* const kExplorationFlagsUsage =
     "  --seed S (1)  --particles N (30)  --threads T (0: all cores)  --time-limit S (simulated)\n"
     "  --similarity-threshold PSI (0.6, the paper's simulations)  --prediction-range M (10)\n"
     "  --ambiguity-margin M (0.1; 0: the paper's best match, no ambiguity rule)\n"
+    "  --local-refutation M (1: a hypothesis loses its cells within M of where the robot sees it\n"
+    "    wrong; 0: off)\n"
     "  --control-point-range M (3: the corner nearest the target within M is the control point)\n"
     "  --degenerate-ratio R (0.15; 0: no degeneracy guard in scan matching)\n"
     "  --set NAME=VALUE (any filter option of 'pslam run --help', e.g. --set loop_closure.enabled=true)\n";
@@ -155,6 +157,9 @@ ExplorationOptions ExplorationFromCli(CliArgs& cli, double default_time_limit_s)
   options.slam.predictor.control_point_range_m =
       cli.Double("--control-point-range", options.slam.predictor.control_point_range_m);
   options.slam.predictor.ambiguity_margin = cli.Double("--ambiguity-margin", options.slam.predictor.ambiguity_margin);
+  options.slam.judge.local_refutation_radius_m =
+      cli.Double("--local-refutation", options.slam.judge.local_refutation_radius_m);
+  if (!(options.slam.judge.local_refutation_radius_m >= 0.0)) cli.AddError("--local-refutation must be 0 or more");
   const double degenerate_ratio = cli.Double("--degenerate-ratio", options.slam.filter.tracking_match.degenerate_ratio);
   if (!(degenerate_ratio >= 0.0 && degenerate_ratio < 1.0)) cli.AddError("--degenerate-ratio must lie in [0, 1)");
   SetDegenerateRatio(options.slam.filter, degenerate_ratio);

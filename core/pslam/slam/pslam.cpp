@@ -7,6 +7,7 @@
 
 #include "pslam/slam/heading_target.hpp"
 #include "pslam/slam/hypothesis_judge.hpp"
+#include "pslam/slam/local_refutation.hpp"
 
 namespace pslam {
 namespace {
@@ -14,12 +15,14 @@ namespace {
 constexpr OccupancyGrid::Cell kPredictedOccupied = 3000;  // milli log-odds, p = 0.95
 constexpr OccupancyGrid::Cell kPredictedFree = -2000;     // p = 0.12
 
-std::vector<PredictedCell> ToPredictedCells(const Hypothesis& h) {
+std::vector<PredictedCell> ToPredictedCells(const std::vector<HypothesisCell>& from) {
   std::vector<PredictedCell> cells;
-  cells.reserve(h.cells.size());
-  for (const HypothesisCell& c : h.cells) cells.push_back({c.cell, c.occupied});
+  cells.reserve(from.size());
+  for (const HypothesisCell& c : from) cells.push_back({c.cell, c.occupied});
   return cells;
 }
+
+std::vector<PredictedCell> ToPredictedCells(const Hypothesis& h) { return ToPredictedCells(h.cells); }
 
 // Hypotheses that weigh the particles (S2 of eq. 22).
 bool Weighing(Hypothesis::Status s) { return s == Hypothesis::Status::kPending || s == Hypothesis::Status::kConfirmed; }
@@ -174,6 +177,7 @@ void PSlam::JudgeHypotheses(const RbpfStep& step, double time, std::vector<int>&
     const std::vector<HypothesisCell> seen = TakeExplored(h, map);
     coverage_.Remove(seen);
     coverage_.Remove(TakeDecided(h, map, classify_));
+    WithdrawAroundContradictions(i, seen);
     // Confirmed hypotheses are settled; expired ones are judged again if the robot comes back,
     // so that only an observation that contradicts them withdraws their coverage.
     if (h.status == Hypothesis::Status::kConfirmed) continue;
@@ -203,6 +207,24 @@ void PSlam::JudgeHypotheses(const RbpfStep& step, double time, std::vector<int>&
     }
     changed.push_back(h.id);
   }
+}
+
+std::vector<HypothesisCell> PSlam::TakeContradicted(Hypothesis& h, const Hypothesis& original,
+                                                    const std::vector<HypothesisCell>& seen) const {
+  const double resolution = options_.filter.resolution;
+  const double radius = options_.judge.local_refutation_radius_m / resolution;
+  if (seen.empty() || radius <= 0.0) return {};
+  const int tolerance = std::max(options_.predictor.tolerance_cells,
+                                 static_cast<int>(std::lround(options_.judge.registration_m / resolution)));
+  return TakeNear(h, FindContradictions(seen, original, filter_.best().map, classify_, tolerance), radius);
+}
+
+void PSlam::WithdrawAroundContradictions(std::size_t i, const std::vector<HypothesisCell>& seen) {
+  Hypothesis& h = hypotheses_[i];
+  const std::vector<HypothesisCell> withdrawn = TakeContradicted(h, originals_[i], seen);
+  if (withdrawn.empty()) return;
+  coverage_.Remove(withdrawn);
+  if (Weighing(h.status)) filter_.RemoveHypothesis(filter_index_[i], ToPredictedCells(withdrawn));
 }
 
 bool PSlam::IsCovered(const Eigen::Vector2i& cell) const { return coverage_.Covered(cell); }

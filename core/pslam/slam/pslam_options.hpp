@@ -28,6 +28,10 @@ struct HypothesisJudgeOptions {
   // any more). It still covers its cells for exploration: nothing contradicted it, and skipping
   // such regions is the point of predicting them. Observed later and refuted, it uncovers them.
   double expiry_s = 300.0;
+  // Where an observed cell contradicts a hypothesis (local_refutation.hpp; walls within
+  // registration_m of each other agree), its cells within this distance that the robot has not
+  // seen are withdrawn: rooms of one plan differ in where their furniture stands. 0: never.
+  double local_refutation_radius_m = 1.0;
 };
 
 // For recorded logs, which have no planner: the target is the frontier the robot is heading
