@@ -273,5 +273,32 @@ TEST(ExploreExplorerTest, DoneWhenNoFrontierOrNoneReachable) {
   EXPECT_EQ(unreachable.unreachable, 1);
 }
 
+// Planning on the map with predictions merged in: a predicted wall across the room must not end
+// the exploration when the robot's own map leaves the way to a frontier open.
+TEST(ExploreExplorerTest, PredictedWallsAloneDoNotEndTheExploration) {
+  OccupancyGrid built = RoomWithTwoOpenings();
+  for (int y = 30; y < 50; ++y) built.MutableAt(-1, y) = kOccupied;  // the left opening is a wall
+  OccupancyGrid merged = built;
+  for (int y = 0; y < 80; ++y) merged.MutableAt(60, y) = kOccupied;  // a predicted wall across the room
+  ASSERT_TRUE(SelectNextTarget(merged, RobotAt(1.5, 2.0)).done());
+
+  const ExploreDecision decision = SelectNextTargetOnMerged(merged, built, RobotAt(1.5, 2.0));
+  ASSERT_FALSE(decision.done());
+  EXPECT_NEAR(decision.target->position.x(), 5.975, 0.05);  // the right opening
+  EXPECT_NEAR(decision.target->position.y(), 2.0, 0.05);
+
+  // Where the merged map has a target, it is the merged map's.
+  OccupancyGrid open = built;
+  for (int y = 30; y < 50; ++y) open.MutableAt(-1, y) = OccupancyGrid::kUnknown;
+  const ExploreDecision on_merged = SelectNextTargetOnMerged(open, built, RobotAt(1.5, 2.0));
+  ASSERT_FALSE(on_merged.done());
+  EXPECT_NEAR(on_merged.target->position.x(), 0.025, 1e-9);  // the left opening, nearer
+
+  // With no frontier left on either map, the exploration is done.
+  OccupancyGrid closed = built;
+  for (int y = 30; y < 50; ++y) closed.MutableAt(120, y) = kOccupied;
+  EXPECT_TRUE(SelectNextTargetOnMerged(closed, closed, RobotAt(1.5, 2.0)).done());
+}
+
 }  // namespace
 }  // namespace pslam

@@ -153,14 +153,12 @@ bool ExplorationRun::Plan(const Pose2D& pose) {
     }
     const auto started = std::chrono::steady_clock::now();
     const bool on_merged = skip && options_.plan_on_merged_map;
-    ExploreDecision decision = on_merged ? SelectNextTarget(slam_.MergedMap(), request, options_.explore)
-                                         : SelectNextTarget(slam_.filter().best().map, request, options_.explore);
-    // Predicted walls can leave frontiers unreachable that the robot's own map reaches: they
-    // never end an exploration on their own (office seed 2 stopped with 54 clusters unreachable
-    // on the merged map; planned on its own map, the robot went on for 88 s).
-    if (on_merged && decision.done() && decision.unreachable > 0) {
-      decision = SelectNextTarget(slam_.filter().best().map, request, options_.explore);
-    }
+    // Office seed 2's skip run once stopped with 54 clusters unreachable on the merged map;
+    // planned on its own map as well, the robot went on for 88 s.
+    const OccupancyGrid& built = slam_.filter().best().map;
+    const ExploreDecision decision = on_merged
+                                         ? SelectNextTargetOnMerged(slam_.MergedMap(), built, request, options_.explore)
+                                         : SelectNextTarget(built, request, options_.explore);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
     summary_.planning_ms += ms;
     summary_.max_planning_ms = std::max(summary_.max_planning_ms, ms);

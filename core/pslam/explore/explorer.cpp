@@ -293,4 +293,11 @@ ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest
   return decision;
 }
 
+ExploreDecision SelectNextTargetOnMerged(const OccupancyGrid& merged, const OccupancyGrid& built,
+                                         const ExploreRequest& request, const ExploreOptions& options) {
+  ExploreDecision decision = SelectNextTarget(merged, request, options);
+  if (decision.done() && decision.unreachable > 0) decision = SelectNextTarget(built, request, options);
+  return decision;
+}
+
 }  // namespace pslam

@@ -124,6 +124,12 @@ struct ExploreDecision {
 ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest& request,
                                  const ExploreOptions& options = {});
 
+// SelectNextTarget on 'merged' (the built map with predictions written in), and on 'built' alone
+// when that leaves only unreachable frontiers: predicted walls can close a way the robot's own map
+// leaves open, and never end an exploration on their own.
+ExploreDecision SelectNextTargetOnMerged(const OccupancyGrid& merged, const OccupancyGrid& built,
+                                         const ExploreRequest& request, const ExploreOptions& options = {});
+
 // Visible for testing: the fraction of a frontier's unexplored surroundings that predictions
 // cover. The cells within 'radius' of the cluster, reached from its cells through unknown cells
 // and through request.predicted ones, are counted, and those for which request.covered holds are
