@@ -1,10 +1,7 @@
 // `pslam localize` (the real binary) on a CARMEN log written from the simulator: the trajectory it
 // writes follows the true one from a given pose and from none, and bad input ends in a clear error.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -18,11 +15,11 @@
 #include "pslam/io/map_io.hpp"
 #include "pslam/sim/simulator.hpp"
 #include "pslam/sim/world_file.hpp"
+#include "testing/cli_scratch.hpp"
 
 namespace pslam {
 namespace {
 
-namespace fs = std::filesystem;
 
 const std::string kWorld = std::string(PSLAM_SOURCE_DIR) + "/core/worlds/irregular.yaml";
 
@@ -71,27 +68,14 @@ class LocalizeCliTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() { log_ = new SimulatedLog(Simulate()); }
   static void TearDownTestSuite() { delete log_; }
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("pslam-localize-cli-" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-    std::ofstream(dir_ / "sim.clf") << log_->text;
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  void SetUp() override { std::ofstream(scratch_.dir() / "sim.clf") << log_->text; }
 
   // Exit status of `pslam localize ARGS`, with stdout and stderr kept in files.
-  int Run(const std::string& args) {
-    const std::string command = std::string(PSLAM_CLI_BINARY) + " localize " + args + " >" + (dir_ / "out.txt").string() +
-                                " 2>" + (dir_ / "err.txt").string();
-    const int status = std::system(command.c_str());
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
-  std::string Read(const std::string& name) {
-    std::ifstream in(dir_ / name);
-    return {std::istreambuf_iterator<char>(in), {}};
-  }
+  int Run(const std::string& args) { return scratch_.Run("localize", args); }
+  std::string Read(const std::string& name) { return scratch_.Read(name); }
   // Position error of the written trajectory at each scan.
   std::vector<double> Errors() {
-    const std::vector<StampedPose> poses = ReadTrajectory((dir_ / "traj.txt").string());
+    const std::vector<StampedPose> poses = ReadTrajectory(scratch_.Path("traj.txt"));
     EXPECT_EQ(poses.size(), log_->truth.size());
     std::vector<double> errors;
     for (std::size_t i = 0; i < poses.size() && i < log_->truth.size(); ++i)
@@ -100,16 +84,16 @@ class LocalizeCliTest : public ::testing::Test {
   }
 
   static SimulatedLog* log_;
-  fs::path dir_;
+  pslam::testing::CliScratch scratch_{"localize-cli"};
 };
 SimulatedLog* LocalizeCliTest::log_ = nullptr;
 
 TEST_F(LocalizeCliTest, FollowsTheRobotFromAGivenPose) {
   ASSERT_GT(log_->truth.size(), 300u);
   const Pose2D s = ReadStartPose(kWorld).value();
-  ASSERT_EQ(Run("--map " + kWorld + " --log " + (dir_ / "sim.clf").string() + " --initial-pose " + std::to_string(s.x + 0.2) +
+  ASSERT_EQ(Run("--map " + kWorld + " --log " + scratch_.Path("sim.clf") + " --initial-pose " + std::to_string(s.x + 0.2) +
                 "," + std::to_string(s.y - 0.1) + "," + std::to_string(s.theta + 0.1) + " --trajectory " +
-                (dir_ / "traj.txt").string()),
+                scratch_.Path("traj.txt")),
             0)
       << Read("err.txt");
   double sum = 0.0, worst = 0.0;
@@ -124,7 +108,7 @@ TEST_F(LocalizeCliTest, FollowsTheRobotFromAGivenPose) {
 }
 
 TEST_F(LocalizeCliTest, FindsTheRobotWithoutAPose) {
-  ASSERT_EQ(Run("--map " + kWorld + " --log " + (dir_ / "sim.clf").string() + " --trajectory " + (dir_ / "traj.txt").string()), 0)
+  ASSERT_EQ(Run("--map " + kWorld + " --log " + scratch_.Path("sim.clf") + " --trajectory " + scratch_.Path("traj.txt")), 0)
       << Read("err.txt");
   const std::vector<double> errors = Errors();
   ASSERT_FALSE(errors.empty());
@@ -133,14 +117,14 @@ TEST_F(LocalizeCliTest, FindsTheRobotWithoutAPose) {
 }
 
 TEST_F(LocalizeCliTest, BadInputEndsInAClearError) {
-  const std::string log = " --log " + (dir_ / "sim.clf").string();
-  EXPECT_EQ(Run("--map " + (dir_ / "missing.yaml").string() + log), 1);
+  const std::string log = " --log " + scratch_.Path("sim.clf");
+  EXPECT_EQ(Run("--map " + scratch_.Path("missing.yaml") + log), 1);
   EXPECT_NE(Read("err.txt").find("missing.yaml"), std::string::npos) << Read("err.txt");
   EXPECT_EQ(Run("--map " + kWorld + log + " --global --initial-pose 1,2,0"), 2);
   EXPECT_NE(Read("err.txt").find("exclude each other"), std::string::npos);
   EXPECT_EQ(Run("--map " + kWorld + log + " --initial-pose 1,2"), 2);
   EXPECT_EQ(Run("--map " + kWorld + log + " --set min_particles=0"), 2);
-  EXPECT_EQ(Run("--map " + kWorld + " --log " + (dir_ / "none.clf").string()), 1);
+  EXPECT_EQ(Run("--map " + kWorld + " --log " + scratch_.Path("none.clf")), 1);
 }
 
 }  // namespace

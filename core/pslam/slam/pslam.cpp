@@ -209,19 +209,15 @@ void PSlam::JudgeHypotheses(const RbpfStep& step, double time, std::vector<int>&
   }
 }
 
-std::vector<HypothesisCell> PSlam::TakeContradicted(Hypothesis& h, const Hypothesis& original,
-                                                    const std::vector<HypothesisCell>& seen) const {
+void PSlam::WithdrawAroundContradictions(std::size_t i, const std::vector<HypothesisCell>& seen) {
   const double resolution = options_.filter.resolution;
   const double radius = options_.judge.local_refutation_radius_m / resolution;
-  if (seen.empty() || radius <= 0.0) return {};
+  if (seen.empty() || radius <= 0.0) return;
   const int tolerance = std::max(options_.predictor.tolerance_cells,
                                  static_cast<int>(std::lround(options_.judge.registration_m / resolution)));
-  return TakeNear(h, FindContradictions(seen, original, filter_.best().map, classify_, tolerance), radius);
-}
-
-void PSlam::WithdrawAroundContradictions(std::size_t i, const std::vector<HypothesisCell>& seen) {
   Hypothesis& h = hypotheses_[i];
-  const std::vector<HypothesisCell> withdrawn = TakeContradicted(h, originals_[i], seen);
+  const std::vector<HypothesisCell> withdrawn =
+      TakeNear(h, FindContradictions(seen, originals_[i], filter_.best().map, classify_, tolerance), radius);
   if (withdrawn.empty()) return;
   coverage_.Remove(withdrawn);
   if (Weighing(h.status)) filter_.RemoveHypothesis(filter_index_[i], ToPredictedCells(withdrawn));

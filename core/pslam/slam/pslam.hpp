@@ -83,11 +83,8 @@ class PSlam {
   void TakePrediction(double time);
   void JudgeHypotheses(const RbpfStep& step, double time, std::vector<int>& changed);
   void SetStatus(std::size_t index, Hypothesis::Status status, double time);
-  // Takes the cells of h near where 'seen' (cells of 'original' just observed) contradicts it
-  // (HypothesisJudgeOptions::local_refutation_radius_m).
-  std::vector<HypothesisCell> TakeContradicted(Hypothesis& h, const Hypothesis& original,
-                                               const std::vector<HypothesisCell>& seen) const;
-  // TakeContradicted() for hypothesis i, withdrawing the cells from coverage and the weights.
+  // Withdraws the cells of hypothesis i near where 'seen' (its cells just observed) contradicts it
+  // (HypothesisJudgeOptions::local_refutation_radius_m) from it, the coverage and the weights.
   void WithdrawAroundContradictions(std::size_t i, const std::vector<HypothesisCell>& seen);
   void MaybeRetargetFromHeading(double time);
   // Moves the hypotheses, coverage and targets with a loop-corrected map; `changed` gets their ids.
