@@ -16,21 +16,28 @@ float Score(double distance2, const LikelihoodFieldOptions& o) {
 }  // namespace
 
 LikelihoodField::LikelihoodField(const OccupancyGrid& map, const LikelihoodFieldOptions& o)
-    : resolution_(map.resolution()) {
+    : options_(o), resolution_(map.resolution()) {
   const double cap = o.max_distance;
   miss_ = Score(cap * cap, o);
+  explained_ = Score(o.sigma * o.sigma, o);
   const CellBox known = map.KnownBounds();
   if (known.empty()) throw std::invalid_argument("the map is empty");
   const int margin = static_cast<int>(std::ceil(cap / resolution_));
   box_.min = known.min - Eigen::Vector2i::Constant(margin);
   box_.max = known.max + Eigen::Vector2i::Constant(margin);
   const int w = box_.width(), h = box_.height();
+  const int extension = static_cast<int>(std::ceil(std::max(0.0, o.max_extension) / resolution_));
+  limit_.min = box_.min - Eigen::Vector2i::Constant(extension);
+  limit_.max = box_.max + Eigen::Vector2i::Constant(extension);
   std::vector<bool> occupied(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), false);
+  known_.assign(occupied.size(), 0);
   for (int y = known.min.y(); y <= known.max.y(); ++y) {
     for (int x = known.min.x(); x <= known.max.x(); ++x) {
       const OccupancyGrid::Cell c = map.At(x, y);
-      if (c == OccupancyGrid::kUnknown || CellProbability(c) < o.occupied_probability) continue;
-      occupied[static_cast<std::size_t>(y - box_.min.y()) * w + (x - box_.min.x())] = true;
+      if (c == OccupancyGrid::kUnknown) continue;
+      known_[Index(x, y)] = 1;
+      if (CellProbability(c) < o.occupied_probability) continue;
+      occupied[Index(x, y)] = true;
       ++occupied_cells_;
     }
   }
@@ -44,6 +51,62 @@ LikelihoodField::LikelihoodField(const OccupancyGrid& map, const LikelihoodField
     const double d = std::max(0.0, std::sqrt(static_cast<double>(v)) - inset) * resolution_;
     v = Score(std::min(d * d, cap * cap), o);
   }
+}
+
+void LikelihoodField::GrowToCover(const CellBox& cells) {
+  if (cells.min.x() >= box_.min.x() && cells.min.y() >= box_.min.y() && cells.max.x() <= box_.max.x() &&
+      cells.max.y() <= box_.max.y()) {
+    return;
+  }
+  // Grown by a margin at once, so that a robot driving off the map copies the table rarely.
+  const Eigen::Vector2i margin = Eigen::Vector2i::Constant(static_cast<int>(std::ceil(5.0 / resolution_)));
+  CellBox grown;
+  grown.min = box_.min.cwiseMin(cells.min - margin).cwiseMax(limit_.min);
+  grown.max = box_.max.cwiseMax(cells.max + margin).cwiseMin(limit_.max);
+  const auto w = static_cast<std::size_t>(grown.width());
+  const std::size_t size = w * static_cast<std::size_t>(grown.height());
+  std::vector<float> table(size, miss_);
+  std::vector<std::uint8_t> occupied(size, 0), known(size, 0);
+  for (int y = box_.min.y(); y <= box_.max.y(); ++y) {
+    const std::size_t from = Index(box_.min.x(), y);
+    const std::size_t to = static_cast<std::size_t>(y - grown.min.y()) * w + static_cast<std::size_t>(box_.min.x() - grown.min.x());
+    const auto n = static_cast<std::ptrdiff_t>(box_.width());
+    std::copy_n(table_.begin() + static_cast<std::ptrdiff_t>(from), n, table.begin() + static_cast<std::ptrdiff_t>(to));
+    std::copy_n(occupied_.begin() + static_cast<std::ptrdiff_t>(from), n, occupied.begin() + static_cast<std::ptrdiff_t>(to));
+    std::copy_n(known_.begin() + static_cast<std::ptrdiff_t>(from), n, known.begin() + static_cast<std::ptrdiff_t>(to));
+  }
+  box_ = grown;
+  table_ = std::move(table);
+  occupied_ = std::move(occupied);
+  known_ = std::move(known);
+}
+
+bool LikelihoodField::AddUnmappedObstacle(const Eigen::Vector2d& world) {
+  const double fx = std::floor(world.x() / resolution_), fy = std::floor(world.y() / resolution_);
+  // Scores beyond 4 sigma differ from a miss by under half a percent: the table is updated that far.
+  const int reach = static_cast<int>(std::ceil(std::min(options_.max_distance, 4.0 * options_.sigma) / resolution_));
+  if (!(fx - reach >= limit_.min.x() && fx + reach <= limit_.max.x() && fy - reach >= limit_.min.y() &&
+        fy + reach <= limit_.max.y())) {
+    return false;
+  }
+  const Eigen::Vector2i cell(static_cast<int>(fx), static_cast<int>(fy));
+  GrowToCover({cell - Eigen::Vector2i::Constant(reach), cell + Eigen::Vector2i::Constant(reach)});
+  const std::size_t index = Index(cell.x(), cell.y());
+  // An endpoint near an obstacle already is explained by it. Adding it too would thicken each
+  // wall into a band over which the field is flat, and the estimate would wander across it.
+  if (known_[index] || table_[index] >= explained_) return false;
+  occupied_[index] = 1;
+  ++added_obstacles_;
+  const double inset = options_.face_distance ? 0.5 : 0.0;
+  const double cap = options_.max_distance;
+  for (int dy = -reach; dy <= reach; ++dy) {
+    for (int dx = -reach; dx <= reach; ++dx) {
+      const double d = std::max(0.0, std::hypot(dx, dy) - inset) * resolution_;
+      float& v = table_[Index(cell.x() + dx, cell.y() + dy)];
+      v = std::max(v, Score(std::min(d * d, cap * cap), options_));
+    }
+  }
+  return true;
 }
 
 float LikelihoodField::PointLogLikelihood(const Eigen::Vector2d& world) const {

@@ -4,7 +4,8 @@
 // of the map's obstacles. The mapping filter scores endpoints by a windowed search instead
 // (pslam/matching/scan_likelihood.hpp) because its maps change at every scan; a fixed map pays the
 // transform once and then costs one table read per endpoint, which is what thousands of particles
-// need.
+// need. Where the map never observed a cell, obstacles seen later may be added (localizing
+// through what the map lacks).
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>
@@ -47,20 +48,38 @@ class LikelihoodField {
   // a Gaussian about 'initial' (RefinePrior).
   Pose2D Refine(const std::vector<Eigen::Vector2f>& points, const Pose2D& initial, double max_shift, double max_turn,
                 double min_step = 0.002, const RefinePrior& prior = RefinePrior()) const;
+  // Adds an obstacle seen at 'world' in a cell the map never observed (unknown there, or off it),
+  // so that later endpoints there score against what was seen rather than against the nearest
+  // wall of the map. Returns whether it was added: not for cells the map observed, cells within
+  // sigma of an obstacle already (so walls stay thin, as the first look drew them), or cells
+  // farther than max_extension beyond the map's known bounds.
+  bool AddUnmappedObstacle(const Eigen::Vector2d& world);
+  int added_obstacles() const { return added_obstacles_; }
   // The score of an endpoint max_distance or more from any obstacle, or off the map.
   float miss_log_likelihood() const { return miss_; }
   int occupied_cells() const { return occupied_cells_; }
 
  private:
+  std::size_t Index(int x, int y) const {
+    return static_cast<std::size_t>(y - box_.min.y()) * static_cast<std::size_t>(box_.width()) +
+           static_cast<std::size_t>(x - box_.min.x());
+  }
+  void GrowToCover(const CellBox& cells);
+
+  LikelihoodFieldOptions options_;
   double resolution_;
   CellBox box_;                 // cells covered by the table: the known map plus max_distance
+  CellBox limit_;               // box_ may grow up to this (max_extension beyond the known map)
   template <typename T>
   double Interpolate(const std::vector<T>& table, const Eigen::Vector2d& world, double outside) const;
 
   std::vector<float> table_;    // row-major over box_
   std::vector<std::uint8_t> occupied_;  // 1 for an obstacle cell, same layout
+  std::vector<std::uint8_t> known_;     // 1 where the map observed the cell, same layout
   float miss_ = 0.0f;
+  float explained_ = 0.0f;      // the score of an endpoint within sigma of an obstacle
   int occupied_cells_ = 0;
+  int added_obstacles_ = 0;
 };
 
 }  // namespace pslam

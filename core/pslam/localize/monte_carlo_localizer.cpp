@@ -231,7 +231,14 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
   Summarize();
   RefineEstimate(hits, odometry);
   SearchPlace(hits, odometry);
+  if (options_.fill_unknown && last_.localized && !last_.searching) FillUnknown(hits);
   return last_;
+}
+
+void MonteCarloLocalizer::FillUnknown(const std::vector<Eigen::Vector2f>& hits) {
+  const Pose2D& pose = last_.estimate;
+  const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+  for (const auto& p : hits) field_.AddUnmappedObstacle({pose.x + c * p.x() - s * p.y(), pose.y + s * p.x() + c * p.y()});
 }
 
 void MonteCarloLocalizer::SearchPlace(const std::vector<Eigen::Vector2f>& hits, const Pose2D& odometry) {

@@ -82,6 +82,7 @@ class MonteCarloLocalizer {
   // Both take the scan's endpoints in the robot frame.
   void RefineEstimate(const std::vector<Eigen::Vector2f>& hits, const Pose2D& odometry);
   void SearchPlace(const std::vector<Eigen::Vector2f>& hits, const Pose2D& odometry);
+  void FillUnknown(const std::vector<Eigen::Vector2f>& hits);  // MclOptions::fill_unknown
 
   MclOptions options_;
   LikelihoodField field_;
