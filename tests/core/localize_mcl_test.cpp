@@ -140,7 +140,9 @@ TEST(LocalizeMclTest, RecoversAfterTheRobotIsCarriedElsewhere) {
   EXPECT_GT((carried.estimate.translation() - carried.truth.translation()).norm(), 5.0);
   const std::optional<double> recovered = ConvergenceDistance(run.samples, 0.2, options.kidnap_after);
   ASSERT_TRUE(recovered.has_value());
-  EXPECT_LT(*recovered, 40.0);  // 33.7 m here; 4.7-12.6 m at the experiment's kidnapping, seeds 1-5
+  // 30.4 m here (33.8 m without fill_unknown, never when endpoints whose beams crossed a wall of
+  // the map are added); 4.7-12.6 m at the experiment's kidnapping, seeds 1-5.
+  EXPECT_LT(*recovered, 40.0);
   EXPECT_TRUE(run.samples.back().localized);
 
   // Random injection, and the search for the place it starts, recover: without either the cloud

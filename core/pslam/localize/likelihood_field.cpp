@@ -19,16 +19,12 @@ LikelihoodField::LikelihoodField(const OccupancyGrid& map, const LikelihoodField
     : options_(o), resolution_(map.resolution()) {
   const double cap = o.max_distance;
   miss_ = Score(cap * cap, o);
-  explained_ = Score(o.sigma * o.sigma, o);
   const CellBox known = map.KnownBounds();
   if (known.empty()) throw std::invalid_argument("the map is empty");
   const int margin = static_cast<int>(std::ceil(cap / resolution_));
   box_.min = known.min - Eigen::Vector2i::Constant(margin);
   box_.max = known.max + Eigen::Vector2i::Constant(margin);
   const int w = box_.width(), h = box_.height();
-  const int extension = static_cast<int>(std::ceil(std::max(0.0, o.max_extension) / resolution_));
-  limit_.min = box_.min - Eigen::Vector2i::Constant(extension);
-  limit_.max = box_.max + Eigen::Vector2i::Constant(extension);
   std::vector<bool> occupied(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), false);
   known_.assign(occupied.size(), 0);
   for (int y = known.min.y(); y <= known.max.y(); ++y) {
@@ -53,56 +49,62 @@ LikelihoodField::LikelihoodField(const OccupancyGrid& map, const LikelihoodField
   }
 }
 
-void LikelihoodField::GrowToCover(const CellBox& cells) {
-  if (cells.min.x() >= box_.min.x() && cells.min.y() >= box_.min.y() && cells.max.x() <= box_.max.x() &&
-      cells.max.y() <= box_.max.y()) {
-    return;
+bool LikelihoodField::NearObstacle(const Eigen::Vector2i& cell) const {
+  // An endpoint near an obstacle already is explained by it. Adding it too would thicken each
+  // wall into a band over which the field is flat, and the estimate would wander across it.
+  const double radius = options_.fill_clearance / resolution_;
+  const int r = static_cast<int>(std::floor(radius));
+  for (int dy = -r; dy <= r; ++dy) {
+    for (int dx = -r; dx <= r; ++dx) {
+      const Eigen::Vector2i c = cell + Eigen::Vector2i(dx, dy);
+      if (dx * dx + dy * dy > radius * radius || c.x() < box_.min.x() || c.y() < box_.min.y() || c.x() > box_.max.x() ||
+          c.y() > box_.max.y()) {
+        continue;
+      }
+      if (occupied_[Index(c.x(), c.y())]) return true;
+    }
   }
-  // Grown by a margin at once, so that a robot driving off the map copies the table rarely.
-  const Eigen::Vector2i margin = Eigen::Vector2i::Constant(static_cast<int>(std::ceil(5.0 / resolution_)));
-  CellBox grown;
-  grown.min = box_.min.cwiseMin(cells.min - margin).cwiseMax(limit_.min);
-  grown.max = box_.max.cwiseMax(cells.max + margin).cwiseMin(limit_.max);
-  const auto w = static_cast<std::size_t>(grown.width());
-  const std::size_t size = w * static_cast<std::size_t>(grown.height());
-  std::vector<float> table(size, miss_);
-  std::vector<std::uint8_t> occupied(size, 0), known(size, 0);
-  for (int y = box_.min.y(); y <= box_.max.y(); ++y) {
-    const std::size_t from = Index(box_.min.x(), y);
-    const std::size_t to = static_cast<std::size_t>(y - grown.min.y()) * w + static_cast<std::size_t>(box_.min.x() - grown.min.x());
-    const auto n = static_cast<std::ptrdiff_t>(box_.width());
-    std::copy_n(table_.begin() + static_cast<std::ptrdiff_t>(from), n, table.begin() + static_cast<std::ptrdiff_t>(to));
-    std::copy_n(occupied_.begin() + static_cast<std::ptrdiff_t>(from), n, occupied.begin() + static_cast<std::ptrdiff_t>(to));
-    std::copy_n(known_.begin() + static_cast<std::ptrdiff_t>(from), n, known.begin() + static_cast<std::ptrdiff_t>(to));
+  return false;
+}
+
+std::optional<bool> LikelihoodField::ExplainedByMap(const Eigen::Vector2d& world) const {
+  const double fx = std::floor(world.x() / resolution_), fy = std::floor(world.y() / resolution_);
+  if (!(fx >= box_.min.x() && fx <= box_.max.x() && fy >= box_.min.y() && fy <= box_.max.y())) return std::nullopt;
+  const Eigen::Vector2i cell(static_cast<int>(fx), static_cast<int>(fy));
+  if (!known_[Index(cell.x(), cell.y())]) return std::nullopt;
+  return NearObstacle(cell);
+}
+
+bool LikelihoodField::BeamBlocked(const Eigen::Vector2d& sensor, const Eigen::Vector2d& endpoint) const {
+  const Eigen::Vector2d beam = endpoint - sensor;
+  const double length = beam.norm() - options_.fill_clearance;
+  if (!(length > 0.0)) return false;
+  const Eigen::Vector2d step = beam.normalized() * (0.5 * resolution_);
+  const int steps = static_cast<int>(length / (0.5 * resolution_));
+  Eigen::Vector2d at = sensor;
+  for (int i = 0; i < steps; ++i, at += step) {
+    const double fx = std::floor(at.x() / resolution_), fy = std::floor(at.y() / resolution_);
+    if (!(fx >= box_.min.x() && fx <= box_.max.x() && fy >= box_.min.y() && fy <= box_.max.y())) continue;
+    if (occupied_[Index(static_cast<int>(fx), static_cast<int>(fy))]) return true;
   }
-  box_ = grown;
-  table_ = std::move(table);
-  occupied_ = std::move(occupied);
-  known_ = std::move(known);
+  return false;
 }
 
 bool LikelihoodField::AddUnmappedObstacle(const Eigen::Vector2d& world) {
   const double fx = std::floor(world.x() / resolution_), fy = std::floor(world.y() / resolution_);
+  if (!(fx >= box_.min.x() && fx <= box_.max.x() && fy >= box_.min.y() && fy <= box_.max.y())) return false;
+  const Eigen::Vector2i cell(static_cast<int>(fx), static_cast<int>(fy));
+  if (known_[Index(cell.x(), cell.y())] || NearObstacle(cell)) return false;
+  occupied_[Index(cell.x(), cell.y())] = 1;
+  ++added_obstacles_;
   // Scores beyond 4 sigma differ from a miss by under half a percent: the table is updated that far.
   const int reach = static_cast<int>(std::ceil(std::min(options_.max_distance, 4.0 * options_.sigma) / resolution_));
-  if (!(fx - reach >= limit_.min.x() && fx + reach <= limit_.max.x() && fy - reach >= limit_.min.y() &&
-        fy + reach <= limit_.max.y())) {
-    return false;
-  }
-  const Eigen::Vector2i cell(static_cast<int>(fx), static_cast<int>(fy));
-  GrowToCover({cell - Eigen::Vector2i::Constant(reach), cell + Eigen::Vector2i::Constant(reach)});
-  const std::size_t index = Index(cell.x(), cell.y());
-  // An endpoint near an obstacle already is explained by it. Adding it too would thicken each
-  // wall into a band over which the field is flat, and the estimate would wander across it.
-  if (known_[index] || table_[index] >= explained_) return false;
-  occupied_[index] = 1;
-  ++added_obstacles_;
   const double inset = options_.face_distance ? 0.5 : 0.0;
   const double cap = options_.max_distance;
-  for (int dy = -reach; dy <= reach; ++dy) {
-    for (int dx = -reach; dx <= reach; ++dx) {
-      const double d = std::max(0.0, std::hypot(dx, dy) - inset) * resolution_;
-      float& v = table_[Index(cell.x() + dx, cell.y() + dy)];
+  for (int y = std::max(cell.y() - reach, box_.min.y()); y <= std::min(cell.y() + reach, box_.max.y()); ++y) {
+    for (int x = std::max(cell.x() - reach, box_.min.x()); x <= std::min(cell.x() + reach, box_.max.x()); ++x) {
+      const double d = std::max(0.0, std::hypot(x - cell.x(), y - cell.y()) - inset) * resolution_;
+      float& v = table_[Index(x, y)];
       v = std::max(v, Score(std::min(d * d, cap * cap), options_));
     }
   }

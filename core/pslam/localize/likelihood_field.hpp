@@ -8,6 +8,7 @@
 // through what the map lacks).
 #include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "pslam/common/pose2d.hpp"
@@ -48,12 +49,19 @@ class LikelihoodField {
   // a Gaussian about 'initial' (RefinePrior).
   Pose2D Refine(const std::vector<Eigen::Vector2f>& points, const Pose2D& initial, double max_shift, double max_turn,
                 double min_step = 0.002, const RefinePrior& prior = RefinePrior()) const;
-  // Adds an obstacle seen at 'world' in a cell the map never observed (unknown there, or off it),
-  // so that later endpoints there score against what was seen rather than against the nearest
-  // wall of the map. Returns whether it was added: not for cells the map observed, cells within
-  // sigma of an obstacle already (so walls stay thin, as the first look drew them), or cells
-  // farther than max_extension beyond the map's known bounds.
+  // Adds an obstacle seen at 'world' in a cell the map never observed, within the table (the
+  // map's known bounds plus max_distance), so that later endpoints there score against what was
+  // seen rather than against the nearest wall of the map. Returns whether it was added: not for
+  // cells the map observed, cells within fill_clearance of an obstacle already (so walls stay
+  // thin, as the first look drew them), or cells off the table. Beyond the map's bounds a lost
+  // estimate would draw a world of its own, fit it, and never look lost.
   bool AddUnmappedObstacle(const Eigen::Vector2d& world);
+  // Whether an endpoint at 'world' lies within fill_clearance of an obstacle; nullopt where the map
+  // never observed its cell.
+  std::optional<bool> ExplainedByMap(const Eigen::Vector2d& world) const;
+  // Whether a beam from 'sensor' to 'endpoint' passes through an obstacle before its last
+  // fill_clearance: the beam cannot have, so the pose it was cast from is wrong.
+  bool BeamBlocked(const Eigen::Vector2d& sensor, const Eigen::Vector2d& endpoint) const;
   int added_obstacles() const { return added_obstacles_; }
   // The score of an endpoint max_distance or more from any obstacle, or off the map.
   float miss_log_likelihood() const { return miss_; }
@@ -64,12 +72,11 @@ class LikelihoodField {
     return static_cast<std::size_t>(y - box_.min.y()) * static_cast<std::size_t>(box_.width()) +
            static_cast<std::size_t>(x - box_.min.x());
   }
-  void GrowToCover(const CellBox& cells);
+  bool NearObstacle(const Eigen::Vector2i& cell) const;  // an obstacle within fill_clearance
 
   LikelihoodFieldOptions options_;
   double resolution_;
   CellBox box_;                 // cells covered by the table: the known map plus max_distance
-  CellBox limit_;               // box_ may grow up to this (max_extension beyond the known map)
   template <typename T>
   double Interpolate(const std::vector<T>& table, const Eigen::Vector2d& world, double outside) const;
 
@@ -77,7 +84,6 @@ class LikelihoodField {
   std::vector<std::uint8_t> occupied_;  // 1 for an obstacle cell, same layout
   std::vector<std::uint8_t> known_;     // 1 where the map observed the cell, same layout
   float miss_ = 0.0f;
-  float explained_ = 0.0f;      // the score of an endpoint within sigma of an obstacle
   int occupied_cells_ = 0;
   int added_obstacles_ = 0;
 };

@@ -24,6 +24,8 @@ const OptionTable<MclOptions>& Setters() {
       {"localized_position_std", Option(&MclOptions::localized_position_std)},
       {"localized_heading_std", Option(&MclOptions::localized_heading_std)},
       {"fill_unknown", Option(&MclOptions::fill_unknown)},
+      {"fill_min_agreement", Option(&MclOptions::fill_min_agreement)},
+      {"fill_min_checked", Option(&MclOptions::fill_min_checked)},
       {"refine", Option(&MclOptions::refine)},
       {"refine_max_points", Option(&MclOptions::refine_max_points)},
       {"refine_gain", Option(&MclOptions::refine_gain)},
@@ -56,7 +58,7 @@ const OptionTable<MclOptions>& Setters() {
       {"likelihood.max_beams", Option(&MclOptions::likelihood, &L::max_beams)},
       {"likelihood.temperature", Option(&MclOptions::likelihood, &L::temperature)},
       {"likelihood.face_distance", Option(&MclOptions::likelihood, &L::face_distance)},
-      {"likelihood.max_extension", Option(&MclOptions::likelihood, &L::max_extension)},
+      {"likelihood.fill_clearance", Option(&MclOptions::likelihood, &L::fill_clearance)},
       {"points.max_usable_range", Option(&MclOptions::points, &ScanPointsOptions::max_usable_range)},
   };
   return setters;
@@ -84,9 +86,12 @@ std::string ValidateMclOptions(const MclOptions& o) {
   if (!(o.recovery_min_drop >= 0.0 && o.recovery_min_drop < 1.0)) return "need 0 <= recovery_min_drop < 1";
   if (!(l.sigma > 0.0) || !(l.z_hit > 0.0) || !(l.z_rand > 0.0)) return "likelihood sigma, z_hit and z_rand must be positive";
   if (!(l.max_distance > 0.0) || l.max_distance > 50.0) return "likelihood.max_distance must be in (0, 50] m";
-  if (!(l.max_extension >= 0.0) || l.max_extension > 500.0) return "likelihood.max_extension must be in [0, 500] m";
+  if (!(l.fill_clearance >= 0.0) || l.fill_clearance > 10.0) return "likelihood.fill_clearance must be in [0, 10] m";
   if (!(l.temperature > 0.0) || l.max_beams < 1) return "need likelihood.temperature > 0 and max_beams >= 1";
   if (!(l.occupied_probability > 0.5 && l.occupied_probability < 1.0)) return "need 0.5 < likelihood.occupied_probability < 1";
+  if (!(o.fill_min_agreement >= 0.0 && o.fill_min_agreement <= 1.0) || o.fill_min_checked < 0) {
+    return "need 0 <= fill_min_agreement <= 1 and fill_min_checked >= 0";
+  }
   if (!(o.refine_gain > 0.0 && o.refine_gain <= 1.0)) return "need 0 < refine_gain <= 1";
   if (o.refine_max_points < 1 || !(o.refine_max_shift >= 0.0) || !(o.refine_max_turn >= 0.0))
     return "need refine_max_points >= 1 and non-negative refine bounds";

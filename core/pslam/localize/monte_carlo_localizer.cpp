@@ -238,7 +238,25 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
 void MonteCarloLocalizer::FillUnknown(const std::vector<Eigen::Vector2f>& hits) {
   const Pose2D& pose = last_.estimate;
   const double c = std::cos(pose.theta), s = std::sin(pose.theta);
-  for (const auto& p : hits) field_.AddUnmappedObstacle({pose.x + c * p.x() - s * p.y(), pose.y + s * p.x() + c * p.y()});
+  const Eigen::Vector2d sensor(pose.x, pose.y);
+  std::vector<Eigen::Vector2d> unmapped;
+  int checked = 0, agreeing = 0;
+  for (const auto& p : hits) {
+    const Eigen::Vector2d world(pose.x + c * p.x() - s * p.y(), pose.y + s * p.x() + c * p.y());
+    if (const std::optional<bool> explained = field_.ExplainedByMap(world)) {
+      ++checked;
+      agreeing += *explained;
+    } else if (field_.BeamBlocked(sensor, world)) {
+      ++checked;  // through a wall: disagrees
+    } else {
+      unmapped.push_back(world);
+    }
+  }
+  // Where the map disagrees with the scan, the pose is wrong (the robot was carried off and the
+  // fit has not dropped yet) or the map is: either way, what is drawn now would be drawn wrongly,
+  // and would let a wrong pose explain its scans.
+  if (checked >= options_.fill_min_checked && agreeing < options_.fill_min_agreement * checked) return;
+  for (const Eigen::Vector2d& w : unmapped) field_.AddUnmappedObstacle(w);
 }
 
 void MonteCarloLocalizer::SearchPlace(const std::vector<Eigen::Vector2f>& hits, const Pose2D& odometry) {
