@@ -135,6 +135,7 @@ int RunLocalizeCommand(const std::vector<std::string>& args) {
     std::printf("particles         %d to %d, %.0f on average\n", s.min_particles_seen, s.max_particles_seen,
                 s.scans ? particle_sum / s.scans : 0.0);
     std::printf("random injection  %lld particles\n", s.injected);
+    std::printf("walls added       %d cells the map never saw (fill_unknown)\n", mcl.unmapped_obstacles());
     std::printf("CPU per scan      %.3f ms (%.3f ms per update)\n", s.scans ? 1e3 * cpu / s.scans : 0.0,
                 s.updates ? 1e3 * cpu / s.updates : 0.0);
     std::printf("wall time         %.2f s (log spans %.1f s)\n", wall, last_time - first_time);

@@ -105,6 +105,8 @@ TEST_F(LocalizeCliTest, FollowsTheRobotFromAGivenPose) {
   EXPECT_LT(worst, 0.4);
   EXPECT_NE(Read("out.txt").find("at the end        localized"), std::string::npos) << Read("out.txt");
   EXPECT_NE(Read("out.txt").find("CPU per scan"), std::string::npos);
+  // The world's own map saw everything the robot sees: nothing is added to it.
+  EXPECT_NE(Read("out.txt").find("walls added       0 cells"), std::string::npos) << Read("out.txt");
 }
 
 TEST_F(LocalizeCliTest, FindsTheRobotWithoutAPose) {

@@ -70,6 +70,7 @@ class MonteCarloLocalizer {
   std::vector<double> weights() const;  // normalised
   const MclUpdate& last() const { return last_; }
   const MclStats& stats() const { return stats_; }
+  int unmapped_obstacles() const { return field_.added_obstacles(); }  // cells added by fill_unknown
   std::size_t free_cells() const { return free_cells_.size(); }
   const MclOptions& options() const { return options_; }
 
