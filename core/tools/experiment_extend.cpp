@@ -76,7 +76,8 @@ int RunExtendExperiment(CliArgs& cli) {
     return 2;
   }
   try {
-    const std::optional<World> given = changed_path ? std::optional<World>(LoadWorld(*changed_path)) : std::nullopt;
+    std::optional<World> given;
+    if (changed_path) given.emplace(LoadWorld(*changed_path));
     const OccupancyGrid original_truth = world->world.ToGrid();
     std::vector<double> first_psi, stale_psi, capped_psi, uncapped_psi, capped_old, uncapped_old;
     for (int r = 0; r < runs; ++r) {
