@@ -32,9 +32,9 @@ struct LikelihoodFieldOptions {
   // 5 runs to 1, and ACES's global start from 0.34 to 1.02 m RPE.
   bool face_distance = false;
   // An endpoint where the map saw nothing that lands this close to an obstacle is explained by it
-  // and not added (MclOptions::fill_unknown). In the office with its east half forgotten, adding every endpoint
-  // thickened walls into bands the estimate drifted across: 0.90 m mean error; 0.36 m at 0.075,
-  // 0.19 m at 0.15, 0.20 m at 0.3.
+  // and not added (MclOptions::fill_unknown). In the office with its east half forgotten, adding
+  // every endpoint thickened walls into bands the estimate drifted across: 0.90 m mean error;
+  // 0.36 m at 0.075, 0.19 m at 0.15, 0.20 m at 0.3.
   double fill_clearance = 0.15;  // m
 };
 
@@ -99,9 +99,9 @@ struct MclOptions {
   double refine_max_shift = 0.12;                    // m: the cloud is tighter than this once localized
   double refine_max_turn = 0.1;                      // rad
 
-  // Once localized, the endpoints of each update that land where the map never observed (unknown
-  // cells, or off the map) join the likelihood field as obstacles, at the reported pose: the map is
-  // extended by what the robot sees, as Cartographer's pure localization keeps local submaps.
+  // Once localized, the endpoints of each update that land in cells the map never observed, within
+  // its bounds, join the likelihood field as obstacles at the reported pose: the map is extended
+  // by what the robot sees, as Cartographer's pure localization keeps local submaps.
   // Without it, those endpoints score by their distance to the map's nearest wall and pull the
   // cloud onto it: the second halves of ACES, Intel and FR079 on their first halves' maps went
   // from 0.051 / 0.184 / 1.61 m RPE to 0.040 / 0.019 / 0.032 m (seed 1).
