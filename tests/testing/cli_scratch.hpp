@@ -2,7 +2,6 @@
 // The real `pslam` binary run in a scratch directory of its own, removed afterwards: what the
 // command-line tests of core share.
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -10,23 +9,16 @@
 #include <iterator>
 #include <string>
 
+#include "testing/temp_dir.hpp"
+
 namespace pslam::testing {
 
 class CliScratch {
  public:
-  explicit CliScratch(const std::string& name)
-      : dir_(std::filesystem::temp_directory_path() / ("pslam-" + name + "-" + std::to_string(::getpid()))) {
-    std::filesystem::create_directories(dir_);
-  }
-  ~CliScratch() {
-    std::error_code ignored;
-    std::filesystem::remove_all(dir_, ignored);
-  }
-  CliScratch(const CliScratch&) = delete;
-  CliScratch& operator=(const CliScratch&) = delete;
+  explicit CliScratch(const std::string& name) : dir_("pslam-" + name) {}
 
-  const std::filesystem::path& dir() const { return dir_; }
-  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+  const std::filesystem::path& dir() const { return dir_.path(); }
+  std::string Path(const std::string& name) const { return (dir() / name).string(); }
 
   // Exit status of `pslam COMMAND ARGS`, with its stdout and stderr kept in out.txt and err.txt.
   int Run(const std::string& command, const std::string& args) const {
@@ -36,12 +28,12 @@ class CliScratch {
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   }
   std::string Read(const std::string& name) const {
-    std::ifstream in(dir_ / name);
+    std::ifstream in(dir() / name);
     return {std::istreambuf_iterator<char>(in), {}};
   }
 
  private:
-  std::filesystem::path dir_;
+  TempDir dir_;
 };
 
 }  // namespace pslam::testing

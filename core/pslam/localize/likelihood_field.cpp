@@ -67,12 +67,17 @@ bool LikelihoodField::NearObstacle(const Eigen::Vector2i& cell) const {
   return false;
 }
 
-std::optional<bool> LikelihoodField::ExplainedByMap(const Eigen::Vector2d& world) const {
+std::optional<Eigen::Vector2i> LikelihoodField::TableCell(const Eigen::Vector2d& world) const {
   const double fx = std::floor(world.x() / resolution_), fy = std::floor(world.y() / resolution_);
+  // Compared as doubles first: a wild point must not overflow the cell index.
   if (!(fx >= box_.min.x() && fx <= box_.max.x() && fy >= box_.min.y() && fy <= box_.max.y())) return std::nullopt;
-  const Eigen::Vector2i cell(static_cast<int>(fx), static_cast<int>(fy));
-  if (!known_[Index(cell.x(), cell.y())]) return std::nullopt;
-  return NearObstacle(cell);
+  return Eigen::Vector2i(static_cast<int>(fx), static_cast<int>(fy));
+}
+
+std::optional<bool> LikelihoodField::ExplainedByMap(const Eigen::Vector2d& world) const {
+  const std::optional<Eigen::Vector2i> cell = TableCell(world);
+  if (!cell || !known_[Index(cell->x(), cell->y())]) return std::nullopt;
+  return NearObstacle(*cell);
 }
 
 bool LikelihoodField::BeamBlocked(const Eigen::Vector2d& sensor, const Eigen::Vector2d& endpoint) const {
@@ -83,17 +88,16 @@ bool LikelihoodField::BeamBlocked(const Eigen::Vector2d& sensor, const Eigen::Ve
   const int steps = static_cast<int>(length / (0.5 * resolution_));
   Eigen::Vector2d at = sensor;
   for (int i = 0; i < steps; ++i, at += step) {
-    const double fx = std::floor(at.x() / resolution_), fy = std::floor(at.y() / resolution_);
-    if (!(fx >= box_.min.x() && fx <= box_.max.x() && fy >= box_.min.y() && fy <= box_.max.y())) continue;
-    if (occupied_[Index(static_cast<int>(fx), static_cast<int>(fy))]) return true;
+    const std::optional<Eigen::Vector2i> cell = TableCell(at);
+    if (cell && occupied_[Index(cell->x(), cell->y())]) return true;
   }
   return false;
 }
 
 bool LikelihoodField::AddUnmappedObstacle(const Eigen::Vector2d& world) {
-  const double fx = std::floor(world.x() / resolution_), fy = std::floor(world.y() / resolution_);
-  if (!(fx >= box_.min.x() && fx <= box_.max.x() && fy >= box_.min.y() && fy <= box_.max.y())) return false;
-  const Eigen::Vector2i cell(static_cast<int>(fx), static_cast<int>(fy));
+  const std::optional<Eigen::Vector2i> found = TableCell(world);
+  if (!found) return false;
+  const Eigen::Vector2i cell = *found;
   if (known_[Index(cell.x(), cell.y())] || NearObstacle(cell)) return false;
   occupied_[Index(cell.x(), cell.y())] = 1;
   ++added_obstacles_;
@@ -112,12 +116,8 @@ bool LikelihoodField::AddUnmappedObstacle(const Eigen::Vector2d& world) {
 }
 
 float LikelihoodField::PointLogLikelihood(const Eigen::Vector2d& world) const {
-  const double fx = std::floor(world.x() / resolution_), fy = std::floor(world.y() / resolution_);
-  // Compare as doubles first: a wild pose must not overflow the cell index.
-  if (!(fx >= box_.min.x() && fx <= box_.max.x() && fy >= box_.min.y() && fy <= box_.max.y())) return miss_;
-  const auto x = static_cast<std::size_t>(static_cast<int>(fx) - box_.min.x());
-  const auto y = static_cast<std::size_t>(static_cast<int>(fy) - box_.min.y());
-  return table_[y * static_cast<std::size_t>(box_.width()) + x];
+  const std::optional<Eigen::Vector2i> cell = TableCell(world);
+  return cell ? table_[Index(cell->x(), cell->y())] : miss_;
 }
 
 template <typename T>

@@ -72,6 +72,8 @@ class LikelihoodField {
     return static_cast<std::size_t>(y - box_.min.y()) * static_cast<std::size_t>(box_.width()) +
            static_cast<std::size_t>(x - box_.min.x());
   }
+  // The table's cell holding 'world', or nullopt off the table (or for a non-finite point).
+  std::optional<Eigen::Vector2i> TableCell(const Eigen::Vector2d& world) const;
   bool NearObstacle(const Eigen::Vector2i& cell) const;  // an obstacle within fill_clearance
 
   LikelihoodFieldOptions options_;

@@ -1,7 +1,6 @@
 #include "pslam/slam/local_refutation.hpp"
 
 #include <algorithm>
-#include <functional>
 #include <unordered_set>
 
 #include "pslam/grid/cell_key.hpp"
@@ -9,7 +8,8 @@
 namespace pslam {
 namespace {
 
-bool AnyWithin(const Eigen::Vector2i& c, int tolerance, const std::function<bool(const Eigen::Vector2i&)>& is_wall) {
+template <typename IsWall>
+bool AnyWithin(const Eigen::Vector2i& c, int tolerance, const IsWall& is_wall) {
   for (int dy = -tolerance; dy <= tolerance; ++dy) {
     for (int dx = -tolerance; dx <= tolerance; ++dx) {
       if (is_wall(c + Eigen::Vector2i(dx, dy))) return true;
