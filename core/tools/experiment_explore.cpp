@@ -166,6 +166,7 @@ ExploreRow RunOne(const std::string& name, const WorldChoice& world, const Occup
   if (!save_prefix.empty()) {
     SaveMap(run.slam().filter().best().map, save_prefix);
     if (options.slam.predict) SaveMap(run.slam().MergedMap(), save_prefix + "_merged");
+    SaveMappingTrajectory(MappingTrajectoryPath(save_prefix), run.MappedTrajectory());
   }
   return row;
 }

@@ -151,6 +151,7 @@ HypothesesResult RunOneWorld(const WorldChoice& world, ExplorationOptions option
   if (save_prefix && !save_prefix->empty()) {
     SaveMap(built, *save_prefix);
     SaveMap(run.slam().MergedMap(), *save_prefix + "_merged");
+    SaveMappingTrajectory(MappingTrajectoryPath(*save_prefix), run.MappedTrajectory());
   }
   HypothesesResult result;
   result.time_s = summary.time_s;

@@ -3,6 +3,7 @@
 // scan next to the mapping filter's on the same scans.
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <optional>
@@ -13,6 +14,7 @@
 #include "experiment_common.hpp"
 #include "pslam/experiment/localization_tour.hpp"
 #include "pslam/experiment/map_alignment.hpp"
+#include "pslam/experiment/mapping_trajectory.hpp"
 #include "pslam/io/map_io.hpp"
 
 namespace pslam {
@@ -35,7 +37,10 @@ constexpr const char* kUsage =
     "  CPU time. --trace writes 'distance truth_x truth_y truth_theta x y theta localized particles'\n"
     "  per scan of the last global run. With --map the figures are given twice: against the true\n"
     "  pose, and against the true pose carried into the map's own frame (the map laid onto the world\n"
-    "  first), which leaves out how far the map itself sits off. --set tunes a localization option:\n";
+    "  first), which leaves out how far the map itself sits off. When MAP_trajectory.txt lies beside\n"
+    "  MAP.yaml (written with it by --save), a third time: against where the map itself has each\n"
+    "  place (the mapping run's own pose at the nearest place it passed, within 1 m), which leaves\n"
+    "  out the map's bends as well. --set tunes a localization option:\n";
 
 constexpr double kConverged = 0.2;  // m: global localization has converged below this error
 
@@ -53,6 +58,19 @@ std::vector<LocalizationSample> InMapFrame(std::vector<LocalizationSample> sampl
   const Pose2D world_to_map = map_to_world.inverse();
   for (LocalizationSample& s : samples) s.truth = world_to_map * s.truth;
   return samples;
+}
+
+// The samples with the truth carried to where the map has that place; those more than 1 m from
+// any place the mapping run passed are left out.
+std::vector<LocalizationSample> InMapLocally(const std::vector<LocalizationSample>& samples, const MapLocalFrame& frame) {
+  std::vector<LocalizationSample> out;
+  for (LocalizationSample s : samples) {
+    const std::optional<Pose2D> local = frame.ToMap(s.truth);
+    if (!local) continue;
+    s.truth = *local;
+    out.push_back(s);
+  }
+  return out;
 }
 
 // What one tracking run and one global run show, measured against the truth the samples carry.
@@ -153,7 +171,12 @@ int RunLocalizeExperiment(CliArgs& cli) {
     // as right as its map, so with --map the figures are also taken in the map's own frame.
     std::optional<MapAlignment> alignment;
     if (map_path) alignment = AlignMap(map, world->world.ToGrid());
-    FigureSeries truth_figures, map_figures;  // against the true pose; in the map's own frame
+    std::optional<MapLocalFrame> local_frame;
+    if (map_path && std::filesystem::exists(MappingTrajectoryPath(*map_path))) {
+      local_frame.emplace(LoadMappingTrajectory(MappingTrajectoryPath(*map_path)));
+    }
+    // Against the true pose; in the map's own frame; where the map has the place.
+    FigureSeries truth_figures, map_figures, local_figures;
     std::vector<double> mcl_cpu, map_cpu, recover;
     int unrecovered = 0;
     std::vector<LocalizationSample> last_global;
@@ -208,6 +231,13 @@ int RunLocalizeExperiment(CliArgs& cli) {
                     static_cast<unsigned long long>(options.seed), m.tracking.mean_position,
                     m.tracking.mean_heading * 180.0 / std::numbers::pi, ConvergenceText(m).c_str(), m.wrongly);
       }
+      if (local_frame) {
+        const RunFigures l = Measure(InMapLocally(before, *local_frame), InMapLocally(found.samples, *local_frame));
+        local_figures.Add(l);
+        std::printf("seed %llu where the map has it: tracking %.3f m, %.2f deg; global %s, wrongly localized at %d\n",
+                    static_cast<unsigned long long>(options.seed), l.tracking.mean_position,
+                    l.tracking.mean_heading * 180.0 / std::numbers::pi, ConvergenceText(l).c_str(), l.wrongly);
+      }
     }
     const FigureSeries& t = truth_figures;
     std::printf("mean tracking error   %.3f m, %.2f deg\n", Mean(t.position), Mean(t.heading) * 180.0 / std::numbers::pi);
@@ -219,6 +249,13 @@ int RunLocalizeExperiment(CliArgs& cli) {
                   "wrongly localized at %.1f %% of the scans\n",
                   Mean(m.position), Mean(m.heading) * 180.0 / std::numbers::pi, m.converge.size(), runs,
                   Mean(m.converge), 100.0 * Mean(m.wrongly_share));
+    }
+    if (local_frame) {
+      const FigureSeries& l = local_figures;
+      std::printf("where the map has it  tracking %.3f m, %.2f deg; global converged in %zu of %d runs, mean %.1f m driven; "
+                  "wrongly localized at %.1f %% of the scans\n",
+                  Mean(l.position), Mean(l.heading) * 180.0 / std::numbers::pi, l.converge.size(), runs,
+                  Mean(l.converge), 100.0 * Mean(l.wrongly_share));
     }
     if (options.kidnap_after > 0.0) std::printf("kidnapping            recovered in %zu of %d runs, mean %.1f m driven\n", recover.size(), runs, Mean(recover));
     std::printf("CPU per scan          %.2f ms localizing", Mean(mcl_cpu));
@@ -235,6 +272,9 @@ int RunLocalizeExperiment(CliArgs& cli) {
                                      {"localizer_cpu_ms_per_scan", JsonArray(mcl_cpu)},
                                      {"mapping_cpu_ms_per_scan", JsonArray(map_cpu)}});
       for (auto& m : map_figures.Json("map_frame_")) members.push_back(std::move(m));
+      if (local_frame) {
+        for (auto& m : local_figures.Json("map_local_")) members.push_back(std::move(m));
+      }
       WriteJsonFile(*json_path, JsonObject(members));
     }
     return 0;

@@ -343,5 +343,25 @@ TEST_F(MazeRunTest, PlainRbpfMakesNoPredictionsAndStopsAtTheTimeLimit) {
   EXPECT_TRUE(run.Step().events.empty());  // a finished run does nothing
 }
 
+TEST_F(MazeRunTest, TheMappedTrajectoryPairsEveryScansTruthWithTheMapsPose) {
+  ExplorationOptions options = ShortRunOptions(ExploreMode::kFullCoverage, 30.0);
+  options.slam.predict = false;
+  ExplorationRun run(world_, start_, options);
+  run.Run();
+  const std::vector<MappedPose> poses = run.MappedTrajectory();
+  ASSERT_EQ(poses.size(), run.Summary().scans);
+  EXPECT_NEAR((poses.front().truth.translation() - start_.translation()).norm(), 0.0, 0.05);
+  double travelled = 0.0, off = 0.0;
+  for (std::size_t i = 1; i < poses.size(); ++i) {
+    travelled += (poses[i].truth.translation() - poses[i - 1].truth.translation()).norm();
+    off = std::max(off, (poses[i].truth.translation() - poses[i].in_map.translation()).norm());
+  }
+  EXPECT_GT(travelled, 2.0);
+  EXPECT_LT(off, 0.3) << "the maze's map frame starts at the world's and a short run stays near it";
+  // The map's poses are the filter's corrected trajectory, not the truth copied.
+  EXPECT_GT(std::abs(poses.back().in_map.x - poses.back().truth.x) + std::abs(poses.back().in_map.y - poses.back().truth.y),
+            1e-6);
+}
+
 }  // namespace
 }  // namespace pslam

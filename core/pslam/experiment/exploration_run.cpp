@@ -120,7 +120,17 @@ void ExplorationRun::AddScan(const SimulatorEvent& event, const LaserScan& scan,
   summary_.max_position_error_m = std::max(summary_.max_position_error_m, error);
   summary_.final_position_error_m = error;
   map_to_world_ = event.true_pose * pose_at_scan_.inverse();
+  true_poses_.push_back(event.true_pose);
   CollectNewHypotheses();
+}
+
+std::vector<MappedPose> ExplorationRun::MappedTrajectory() const {
+  const std::vector<Pose2D> in_map = slam_.filter().Trajectory();
+  std::vector<MappedPose> poses;
+  for (std::size_t i = 0; i < std::min(in_map.size(), true_poses_.size()); ++i) {
+    poses.push_back({true_poses_[i], in_map[i]});
+  }
+  return poses;
 }
 
 void ExplorationRun::CollectNewHypotheses() {

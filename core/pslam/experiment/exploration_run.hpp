@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "pslam/common/pose2d.hpp"
+#include "pslam/experiment/mapping_trajectory.hpp"
 #include "pslam/explore/explorer.hpp"
 #include "pslam/explore/obstacle_stop.hpp"
 #include "pslam/explore/path_follower.hpp"
@@ -162,6 +163,9 @@ class ExplorationRun {
   // around the robot is consistent with its estimate, so this carries a prediction into the world
   // frame to be compared with the truth.
   const std::vector<Pose2D>& accepted_map_to_world() const { return accepted_map_to_world_; }
+  // At every scan so far, the true pose and the best particle's (corrected) pose in the map frame:
+  // where the built map has each place (mapping_trajectory.hpp).
+  std::vector<MappedPose> MappedTrajectory() const;
 
  private:
   void AddScan(const SimulatorEvent& event, const LaserScan& scan, ExplorationStep& out);
@@ -207,6 +211,7 @@ class ExplorationRun {
   Pose2D map_to_world_;            // as of the last scan
   ExplorationSummary summary_;
   double position_error_sum_ = 0.0;
+  std::vector<Pose2D> true_poses_;  // at every scan given to P-SLAM
 };
 
 }  // namespace pslam
