@@ -141,6 +141,7 @@ const char* const kExplorationFlagsUsage =
     "  --ambiguity-margin M (0.1; 0: the paper's best match, no ambiguity rule)\n"
     "  --local-refutation M (1: a hypothesis loses its cells within M of where the robot sees it\n"
     "    wrong; 0: off)\n"
+    "  --drop-sealed-off (hypotheses lose predicted floor cut off from all the floor seen)\n"
     "  --control-point-range M (3: the corner nearest the target within M is the control point)\n"
     "  --degenerate-ratio R (0.15; 0: no degeneracy guard in scan matching)\n"
     "  --set NAME=VALUE (any filter option of 'pslam run --help', e.g. --set loop_closure.enabled=true)\n";
@@ -160,6 +161,7 @@ ExplorationOptions ExplorationFromCli(CliArgs& cli, double default_time_limit_s)
   options.slam.judge.local_refutation_radius_m =
       cli.Double("--local-refutation", options.slam.judge.local_refutation_radius_m);
   if (!(options.slam.judge.local_refutation_radius_m >= 0.0)) cli.AddError("--local-refutation must be 0 or more");
+  if (cli.Flag("--drop-sealed-off")) options.slam.judge.drop_sealed_off = true;
   const double degenerate_ratio = cli.Double("--degenerate-ratio", options.slam.filter.tracking_match.degenerate_ratio);
   if (!(degenerate_ratio >= 0.0 && degenerate_ratio < 1.0)) cli.AddError("--degenerate-ratio must lie in [0, 1)");
   SetDegenerateRatio(options.slam.filter, degenerate_ratio);

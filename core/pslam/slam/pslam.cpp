@@ -8,6 +8,7 @@
 #include "pslam/slam/heading_target.hpp"
 #include "pslam/slam/hypothesis_judge.hpp"
 #include "pslam/slam/local_refutation.hpp"
+#include "pslam/slam/sealed_predictions.hpp"
 
 namespace pslam {
 namespace {
@@ -141,6 +142,7 @@ void PSlam::TakePrediction(double time) {
     MoveHypothesis(*h, move_since_request_, options_.filter.resolution);
   }
   TakeExplored(*h, filter_.best().map);
+  if (options_.judge.drop_sealed_off) TakeSealedOff(*h, filter_.best().map, classify_);
   if (h->cells.empty()) return;
   filter_index_.push_back(filter_.AddHypothesis(ToPredictedCells(*h)));
   coverage_.Add(h->cells);
@@ -216,9 +218,14 @@ void PSlam::WithdrawAroundContradictions(std::size_t i, const std::vector<Hypoth
   const int tolerance = std::max(options_.predictor.tolerance_cells,
                                  static_cast<int>(std::lround(options_.judge.registration_m / resolution)));
   Hypothesis& h = hypotheses_[i];
-  const std::vector<HypothesisCell> withdrawn =
+  std::vector<HypothesisCell> withdrawn =
       TakeNear(h, FindContradictions(seen, originals_[i], filter_.best().map, classify_, tolerance), radius);
   if (withdrawn.empty()) return;
+  // What the withdrawn cells joined to the robot's floor may now be cut off from it.
+  if (options_.judge.drop_sealed_off) {
+    const std::vector<HypothesisCell> sealed = TakeSealedOff(h, filter_.best().map, classify_);
+    withdrawn.insert(withdrawn.end(), sealed.begin(), sealed.end());
+  }
   coverage_.Remove(withdrawn);
   if (Weighing(h.status)) filter_.RemoveHypothesis(filter_index_[i], ToPredictedCells(withdrawn));
 }

@@ -1,0 +1,82 @@
+#include "pslam/slam/sealed_predictions.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <deque>
+
+namespace pslam {
+namespace {
+
+enum Passage : std::uint8_t { kBlocked = 0, kOpen = 1, kReached = 2 };
+
+}  // namespace
+
+std::vector<HypothesisCell> TakeSealedOff(Hypothesis& h, const OccupancyGrid& map, const CellClassifier& classify,
+                                          int wall_reach_cells) {
+  std::vector<HypothesisCell> taken;
+  CellBox box;
+  for (const std::vector<HypothesisCell>* cells : {&h.cells, &h.undecided_cells}) {
+    for (const HypothesisCell& c : *cells) box.Extend(c.cell);
+  }
+  if (box.empty()) return taken;
+  const int margin = wall_reach_cells + 1;  // observed floor just outside the prediction joins it too
+  box.Extend(box.min - Eigen::Vector2i(margin, margin));
+  box.Extend(box.max + Eigen::Vector2i(margin, margin));
+  const int width = box.width(), height = box.height();
+  const auto inside = [&](const Eigen::Vector2i& c) {
+    return c.x() >= box.min.x() && c.y() >= box.min.y() && c.x() <= box.max.x() && c.y() <= box.max.y();
+  };
+  const auto index = [&](const Eigen::Vector2i& c) {
+    return static_cast<std::size_t>(c.y() - box.min.y()) * width + (c.x() - box.min.x());
+  };
+
+  std::vector<std::uint8_t> passage(static_cast<std::size_t>(width) * height, kBlocked);
+  std::deque<Eigen::Vector2i> queue;
+  for (int y = box.min.y(); y <= box.max.y(); ++y) {
+    for (int x = box.min.x(); x <= box.max.x(); ++x) {
+      const CellState s = classify(map.At(x, y));
+      if (s == CellState::kFree) {
+        passage[index({x, y})] = kReached;
+        queue.push_back({x, y});
+      } else if (s == CellState::kUncertain) {
+        passage[index({x, y})] = kOpen;
+      }
+    }
+  }
+  // Predictions decide over what the map has not (undecided cells are predicted too).
+  for (const std::vector<HypothesisCell>* cells : {&h.cells, &h.undecided_cells}) {
+    for (const HypothesisCell& c : *cells) passage[index(c.cell)] = c.occupied ? kBlocked : kOpen;
+  }
+  static const Eigen::Vector2i kSteps[4] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+  while (!queue.empty()) {
+    const Eigen::Vector2i c = queue.front();
+    queue.pop_front();
+    for (const Eigen::Vector2i& step : kSteps) {
+      const Eigen::Vector2i n = c + step;
+      if (!inside(n)) continue;
+      std::uint8_t& p = passage[index(n)];
+      if (p != kOpen) continue;
+      p = kReached;
+      queue.push_back(n);
+    }
+  }
+
+  const auto joined = [&](const HypothesisCell& c) {
+    if (!c.occupied) return passage[index(c.cell)] == kReached;
+    for (int dy = -wall_reach_cells; dy <= wall_reach_cells; ++dy) {
+      for (int dx = -wall_reach_cells; dx <= wall_reach_cells; ++dx) {
+        const Eigen::Vector2i n = c.cell + Eigen::Vector2i(dx, dy);
+        if (inside(n) && passage[index(n)] == kReached) return true;
+      }
+    }
+    return false;
+  };
+  for (std::vector<HypothesisCell>* cells : {&h.cells, &h.undecided_cells}) {
+    const auto gone = std::stable_partition(cells->begin(), cells->end(), joined);
+    taken.insert(taken.end(), gone, cells->end());
+    cells->erase(gone, cells->end());
+  }
+  return taken;
+}
+
+}  // namespace pslam
