@@ -35,8 +35,8 @@ struct HypothesisJudgeOptions {
   // Predicted floor cut off from all the floor the robot has seen, and the walls that bound only
   // it, are taken out of a hypothesis when it is accepted and after each withdrawal
   // (sealed_predictions.hpp): a room copied onto space seen closed has no way in. Off: it makes
-  // merged maps truer (held-out worlds 8 -> 10 of 14 at merged Psi >= 0.7) but predicts less, and
-  // exploration saves less time (24.3 -> 15.6 %, maze 34.4 -> 20.0 %; docs/experiments.md).
+  // merged maps truer (held-out worlds 8 -> 11 of 15 at merged Psi >= 0.7) but predicts less, and
+  // exploration saves less time (25.7 -> 15.6 %, maze 34.4 -> 20.0 %; docs/experiments.md).
   bool drop_sealed_off = false;
 };
 
