@@ -2,9 +2,9 @@
 
 #include <cmath>
 #include <fstream>
-#include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 namespace pslam {
 namespace {
