@@ -2,6 +2,7 @@
 // from a known start (tracking error) and from none (distance to converge), with the CPU time per
 // scan next to the mapping filter's on the same scans.
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -128,6 +129,21 @@ double Mean(const std::vector<double>& v) {
   return v.empty() ? NAN : sum / static_cast<double>(v.size());
 }
 
+// One run's figures against a truth other than the world's (named by 'against').
+void PrintRun(std::uint64_t seed, const char* against, const RunFigures& f) {
+  std::printf("seed %llu %s: tracking %.3f m, %.2f deg; global %s, wrongly localized at %d\n",
+              static_cast<unsigned long long>(seed), against, f.tracking.mean_position,
+              f.tracking.mean_heading * 180.0 / std::numbers::pi, ConvergenceText(f).c_str(), f.wrongly);
+}
+
+// The means over all runs against such a truth.
+void PrintSeries(const char* against, const FigureSeries& f, int runs) {
+  std::printf("%-21s tracking %.3f m, %.2f deg; global converged in %zu of %d runs, mean %.1f m driven; "
+              "wrongly localized at %.1f %% of the scans\n",
+              against, Mean(f.position), Mean(f.heading) * 180.0 / std::numbers::pi, f.converge.size(), runs,
+              Mean(f.converge), 100.0 * Mean(f.wrongly_share));
+}
+
 }  // namespace
 
 int RunLocalizeExperiment(CliArgs& cli) {
@@ -227,36 +243,20 @@ int RunLocalizeExperiment(CliArgs& cli) {
       if (alignment) {
         const RunFigures m = Measure(InMapFrame(before, alignment->move), InMapFrame(found.samples, alignment->move));
         map_figures.Add(m);
-        std::printf("seed %llu in the map's frame: tracking %.3f m, %.2f deg; global %s, wrongly localized at %d\n",
-                    static_cast<unsigned long long>(options.seed), m.tracking.mean_position,
-                    m.tracking.mean_heading * 180.0 / std::numbers::pi, ConvergenceText(m).c_str(), m.wrongly);
+        PrintRun(options.seed, "in the map's frame", m);
       }
       if (local_frame) {
         const RunFigures l = Measure(InMapLocally(before, *local_frame), InMapLocally(found.samples, *local_frame));
         local_figures.Add(l);
-        std::printf("seed %llu where the map has it: tracking %.3f m, %.2f deg; global %s, wrongly localized at %d\n",
-                    static_cast<unsigned long long>(options.seed), l.tracking.mean_position,
-                    l.tracking.mean_heading * 180.0 / std::numbers::pi, ConvergenceText(l).c_str(), l.wrongly);
+        PrintRun(options.seed, "where the map has it", l);
       }
     }
     const FigureSeries& t = truth_figures;
     std::printf("mean tracking error   %.3f m, %.2f deg\n", Mean(t.position), Mean(t.heading) * 180.0 / std::numbers::pi);
     std::printf("global localization   converged in %zu of %d runs, mean %.1f m driven; wrongly localized at %.1f %% of the scans\n",
                 t.converge.size(), runs, Mean(t.converge), 100.0 * Mean(t.wrongly_share));
-    if (alignment) {
-      const FigureSeries& m = map_figures;
-      std::printf("in the map's frame    tracking %.3f m, %.2f deg; global converged in %zu of %d runs, mean %.1f m driven; "
-                  "wrongly localized at %.1f %% of the scans\n",
-                  Mean(m.position), Mean(m.heading) * 180.0 / std::numbers::pi, m.converge.size(), runs,
-                  Mean(m.converge), 100.0 * Mean(m.wrongly_share));
-    }
-    if (local_frame) {
-      const FigureSeries& l = local_figures;
-      std::printf("where the map has it  tracking %.3f m, %.2f deg; global converged in %zu of %d runs, mean %.1f m driven; "
-                  "wrongly localized at %.1f %% of the scans\n",
-                  Mean(l.position), Mean(l.heading) * 180.0 / std::numbers::pi, l.converge.size(), runs,
-                  Mean(l.converge), 100.0 * Mean(l.wrongly_share));
-    }
+    if (alignment) PrintSeries("in the map's frame", map_figures, runs);
+    if (local_frame) PrintSeries("where the map has it", local_figures, runs);
     if (options.kidnap_after > 0.0) std::printf("kidnapping            recovered in %zu of %d runs, mean %.1f m driven\n", recover.size(), runs, Mean(recover));
     std::printf("CPU per scan          %.2f ms localizing", Mean(mcl_cpu));
     if (mapping) std::printf(", %.2f ms mapping", Mean(map_cpu));

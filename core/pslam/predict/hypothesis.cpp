@@ -10,15 +10,6 @@
 namespace pslam {
 namespace {
 
-// Moves the cells for which 'still' is false out of 'cells' (keeping the order of both parts).
-template <typename Still>
-std::vector<HypothesisCell> TakeUnless(std::vector<HypothesisCell>& cells, Still still) {
-  const auto gone = std::stable_partition(cells.begin(), cells.end(), still);
-  std::vector<HypothesisCell> taken(gone, cells.end());
-  cells.erase(gone, cells.end());
-  return taken;
-}
-
 }  // namespace
 
 Pose2D ReferenceToTarget(const Hypothesis& hypothesis) {
@@ -74,12 +65,12 @@ double ObservedSimilarity(const Hypothesis& hypothesis, const OccupancyGrid& lat
 }
 
 std::vector<HypothesisCell> TakeExplored(Hypothesis& hypothesis, const OccupancyGrid& map) {
-  return TakeUnless(hypothesis.cells, [&](const HypothesisCell& c) { return !map.IsKnown(c.cell.x(), c.cell.y()); });
+  return TakeCellsUnless(hypothesis.cells, [&](const HypothesisCell& c) { return !map.IsKnown(c.cell.x(), c.cell.y()); });
 }
 
 std::vector<HypothesisCell> TakeDecided(Hypothesis& hypothesis, const OccupancyGrid& map,
                                         const CellClassifier& classify) {
-  return TakeUnless(hypothesis.undecided_cells, [&](const HypothesisCell& c) {
+  return TakeCellsUnless(hypothesis.undecided_cells, [&](const HypothesisCell& c) {
     return classify(map.At(c.cell.x(), c.cell.y())) == CellState::kUncertain;
   });
 }

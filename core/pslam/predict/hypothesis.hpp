@@ -3,6 +3,7 @@
 // cells around an exploration target, copied from a similar region of the built map, plus what the
 // caller later learns about it (validation V(.), hit ratio of eq. 23, Psi against the real map).
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstddef>
 #include <limits>
 #include <string>
@@ -66,6 +67,25 @@ void MoveHypothesis(Hypothesis& hypothesis, const Pose2D& move, double resolutio
 // it before TakeExplored, which drops those cells.
 double ObservedSimilarity(const Hypothesis& hypothesis, const OccupancyGrid& later_map,
                           const CellStateThresholds& thresholds = {}, int tolerance_cells = 1);
+
+// Moves the cells for which 'keep' is false out of 'cells', keeping the order of both parts, and
+// returns them.
+template <typename Keep>
+std::vector<HypothesisCell> TakeCellsUnless(std::vector<HypothesisCell>& cells, Keep keep) {
+  const auto gone = std::stable_partition(cells.begin(), cells.end(), keep);
+  std::vector<HypothesisCell> taken(gone, cells.end());
+  cells.erase(gone, cells.end());
+  return taken;
+}
+
+// The same over a hypothesis's cells and undecided cells alike.
+template <typename Keep>
+std::vector<HypothesisCell> TakeCellsUnless(Hypothesis& hypothesis, Keep keep) {
+  std::vector<HypothesisCell> taken = TakeCellsUnless(hypothesis.cells, keep);
+  std::vector<HypothesisCell> undecided = TakeCellsUnless(hypothesis.undecided_cells, keep);
+  taken.insert(taken.end(), undecided.begin(), undecided.end());
+  return taken;
+}
 
 // The validation model V(.) of eq. 20: takes the cells that 'map' has observed since (any value
 // but OccupancyGrid::kUnknown) out of the hypothesis, so that it only ever speaks for unexplored

@@ -46,19 +46,13 @@ std::vector<Eigen::Vector2i> FindContradictions(const std::vector<HypothesisCell
 }
 
 std::vector<HypothesisCell> TakeNear(Hypothesis& h, const std::vector<Eigen::Vector2i>& points, double radius_cells) {
-  std::vector<HypothesisCell> taken;
-  if (points.empty() || radius_cells <= 0.0) return taken;
+  if (points.empty() || radius_cells <= 0.0) return {};
   const double r2 = radius_cells * radius_cells;
   const auto far = [&](const HypothesisCell& c) {
     return std::none_of(points.begin(), points.end(),
                         [&](const Eigen::Vector2i& p) { return (c.cell - p).cast<double>().squaredNorm() <= r2; });
   };
-  for (std::vector<HypothesisCell>* cells : {&h.cells, &h.undecided_cells}) {
-    const auto gone = std::stable_partition(cells->begin(), cells->end(), far);
-    taken.insert(taken.end(), gone, cells->end());
-    cells->erase(gone, cells->end());
-  }
-  return taken;
+  return TakeCellsUnless(h, far);
 }
 
 }  // namespace pslam

@@ -1,6 +1,5 @@
 #include "pslam/slam/sealed_predictions.hpp"
 
-#include <algorithm>
 #include <cstdint>
 #include <deque>
 
@@ -13,12 +12,11 @@ enum Passage : std::uint8_t { kBlocked = 0, kOpen = 1, kReached = 2 };
 
 std::vector<HypothesisCell> TakeSealedOff(Hypothesis& h, const OccupancyGrid& map, const CellClassifier& classify,
                                           int wall_reach_cells) {
-  std::vector<HypothesisCell> taken;
   CellBox box;
   for (const std::vector<HypothesisCell>* cells : {&h.cells, &h.undecided_cells}) {
     for (const HypothesisCell& c : *cells) box.Extend(c.cell);
   }
-  if (box.empty()) return taken;
+  if (box.empty()) return {};
   const int margin = wall_reach_cells + 1;  // observed floor just outside the prediction joins it too
   box.Extend(box.min - Eigen::Vector2i(margin, margin));
   box.Extend(box.max + Eigen::Vector2i(margin, margin));
@@ -71,12 +69,7 @@ std::vector<HypothesisCell> TakeSealedOff(Hypothesis& h, const OccupancyGrid& ma
     }
     return false;
   };
-  for (std::vector<HypothesisCell>* cells : {&h.cells, &h.undecided_cells}) {
-    const auto gone = std::stable_partition(cells->begin(), cells->end(), joined);
-    taken.insert(taken.end(), gone, cells->end());
-    cells->erase(gone, cells->end());
-  }
-  return taken;
+  return TakeCellsUnless(h, joined);
 }
 
 }  // namespace pslam
