@@ -273,6 +273,21 @@ TEST(ExploreExplorerTest, DoneWhenNoFrontierOrNoneReachable) {
   EXPECT_EQ(unreachable.unreachable, 1);
 }
 
+// The search's node cap bounds the time of one plan; the frontiers beyond it are not out of reach,
+// and the exploration is not done while one is left.
+TEST(ExploreExplorerTest, FrontiersBeyondTheNodeCapAreStillReached) {
+  OccupancyGrid grid = RoomWithTwoOpenings();
+  for (int y = 30; y < 50; ++y) grid.MutableAt(-1, y) = kOccupied;  // only the right opening is left
+  ExploreOptions options;
+  options.planner.max_expanded_nodes = 500;  // a few of the room's 9600 cells
+  const ExploreDecision decision = SelectNextTarget(grid, RobotAt(1.5, 2.0), options);
+  ASSERT_FALSE(decision.done());
+  EXPECT_NEAR(decision.target->position.x(), 5.975, 0.05);
+  EXPECT_NEAR(decision.target->position.y(), 2.0, 0.05);
+  EXPECT_FALSE(decision.search_truncated);
+  EXPECT_GT(decision.expanded_nodes, 500u);
+}
+
 // Planning on the map with predictions merged in: a predicted wall across the room must not end
 // the exploration when the robot's own map leaves the way to a frontier open.
 TEST(ExploreExplorerTest, PredictedWallsAloneDoNotEndTheExploration) {

@@ -235,6 +235,13 @@ ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest
     tree = GrowSearchTree(planning, request.robot_position);
     decision = choose(tree);
   }
+  // The node cap bounds one plan's time, not the map: a search it cut short has not shown that
+  // the frontiers beyond are out of reach (the shipped office once ended its exploration
+  // with 24 clusters left that way). Before calling the exploration done, search the whole map.
+  if (decision.done() && tree.truncated()) {
+    tree = GrowSearchTree(planning, request.robot_position, std::nullopt, {}, planning.size());
+    decision = choose(tree);
+  }
   if (!decision.done() || options.way_in_cost_factor <= 0.0 || !request.predicted || tree.truncated()) {
     return decision;
   }

@@ -94,7 +94,7 @@ std::vector<Eigen::Vector2d> SearchTree::PathTo(const Eigen::Vector2i& c) const 
 }
 
 SearchTree GrowSearchTree(const PlanningGrid& grid, const Eigen::Vector2d& start, std::optional<Eigen::Vector2i> goal,
-                          const SettleCallback& on_settle) {
+                          const SettleCallback& on_settle, std::optional<std::size_t> max_expanded_nodes) {
   SearchTree tree(grid);
   tree.start_ = start;
   const std::size_t n = grid.size();
@@ -104,6 +104,7 @@ SearchTree GrowSearchTree(const PlanningGrid& grid, const Eigen::Vector2d& start
   tree.settled_.assign(n, false);
   const double res = grid.resolution();
   const PlannerOptions& options = grid.options();
+  const std::size_t node_cap = max_expanded_nodes.value_or(options.max_expanded_nodes);
 
   using Entry = std::pair<double, std::size_t>;  // (cost + heuristic, index)
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
@@ -146,7 +147,7 @@ SearchTree GrowSearchTree(const PlanningGrid& grid, const Eigen::Vector2d& start
     const auto [unused_priority, i] = open.top();
     open.pop();
     if (tree.settled_[i]) continue;  // a stale entry: the cell was settled at a lower cost
-    if (tree.expanded_ >= options.max_expanded_nodes) {
+    if (tree.expanded_ >= node_cap) {
       tree.truncated_ = true;
       break;
     }

@@ -22,8 +22,10 @@ using SettleCallback = std::function<bool(std::size_t index, double cost)>;
 
 // Dijkstra from 'start' over the whole reachable space when 'goal' is empty; A* that stops once
 // 'goal' is settled otherwise. 'on_settle', when given, may end the search earlier.
+// 'max_expanded_nodes', when given, replaces PlannerOptions::max_expanded_nodes.
 SearchTree GrowSearchTree(const PlanningGrid& grid, const Eigen::Vector2d& start,
-                          std::optional<Eigen::Vector2i> goal = std::nullopt, const SettleCallback& on_settle = {});
+                          std::optional<Eigen::Vector2i> goal = std::nullopt, const SettleCallback& on_settle = {},
+                          std::optional<std::size_t> max_expanded_nodes = std::nullopt);
 
 // A search from one start position: best cost, path length and parent of every cell it settled.
 // Keeps a pointer to the planning grid, which must outlive it.
@@ -44,7 +46,7 @@ class SearchTree {
 
  private:
   friend SearchTree GrowSearchTree(const PlanningGrid&, const Eigen::Vector2d&, std::optional<Eigen::Vector2i>,
-                                   const SettleCallback&);
+                                   const SettleCallback&, std::optional<std::size_t>);
   explicit SearchTree(const PlanningGrid& grid) : grid_(&grid) {}
 
   const PlanningGrid* grid_;
