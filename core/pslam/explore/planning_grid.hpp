@@ -23,7 +23,9 @@ struct PlannerOptions {
   // A start cell that is not traversable (the robot's own cell is often still unknown: the laser
   // looks forward) is left along a straight, obstacle-free segment to a traversable cell within this.
   double start_escape_radius = 0.6;  // m
-  std::size_t max_expanded_nodes = 500000;  // search bound: about the cells of a 35 m x 35 m map
+  // One search's bound: about the cells of a 35 m x 35 m map. Before exploration is called done,
+  // the explorer searches past it (explorer.cpp).
+  std::size_t max_expanded_nodes = 500000;
 };
 
 class PlanningGrid {
