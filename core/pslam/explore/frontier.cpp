@@ -36,22 +36,15 @@ std::vector<FrontierCluster> FindFrontierClusters(const OccupancyGrid& grid, con
 
   // Frontier cells lie inside the known bounds: mark them in a dense window over it.
   const CellBox box = grid.KnownBounds();
-  const auto index = [&](const Eigen::Vector2i& c) {
-    return static_cast<std::size_t>(c.y() - box.min.y()) * static_cast<std::size_t>(box.width()) +
-           static_cast<std::size_t>(c.x() - box.min.x());
-  };
-  const auto inside = [&](const Eigen::Vector2i& c) {
-    return c.x() >= box.min.x() && c.y() >= box.min.y() && c.x() <= box.max.x() && c.y() <= box.max.y();
-  };
   enum : unsigned char { kNone, kPending, kTaken };
   std::vector<unsigned char> mark(static_cast<std::size_t>(box.width()) * static_cast<std::size_t>(box.height()), kNone);
-  for (const auto& c : frontier) mark[index(c)] = kPending;
+  for (const auto& c : frontier) mark[box.Index(c)] = kPending;
 
   std::vector<Eigen::Vector2i> stack;
   for (const auto& seed : frontier) {
-    if (mark[index(seed)] != kPending) continue;
+    if (mark[box.Index(seed)] != kPending) continue;
     FrontierCluster cluster;
-    mark[index(seed)] = kTaken;
+    mark[box.Index(seed)] = kTaken;
     stack.push_back(seed);
     while (!stack.empty()) {
       const Eigen::Vector2i c = stack.back();
@@ -60,8 +53,8 @@ std::vector<FrontierCluster> FindFrontierClusters(const OccupancyGrid& grid, con
       for (int dy = -1; dy <= 1; ++dy) {
         for (int dx = -1; dx <= 1; ++dx) {
           const Eigen::Vector2i n = c + Eigen::Vector2i(dx, dy);
-          if ((dx == 0 && dy == 0) || !inside(n) || mark[index(n)] != kPending) continue;
-          mark[index(n)] = kTaken;
+          if ((dx == 0 && dy == 0) || !box.Contains(n) || mark[box.Index(n)] != kPending) continue;
+          mark[box.Index(n)] = kTaken;
           stack.push_back(n);
         }
       }

@@ -37,13 +37,8 @@ class PlanningGrid {
   int height() const { return box_.height(); }
   std::size_t size() const { return classes_.size(); }
 
-  bool Contains(const Eigen::Vector2i& c) const {
-    return c.x() >= box_.min.x() && c.y() >= box_.min.y() && c.x() <= box_.max.x() && c.y() <= box_.max.y();
-  }
-  std::size_t Index(const Eigen::Vector2i& c) const {
-    return static_cast<std::size_t>(c.y() - box_.min.y()) * static_cast<std::size_t>(box_.width()) +
-           static_cast<std::size_t>(c.x() - box_.min.x());
-  }
+  bool Contains(const Eigen::Vector2i& c) const { return box_.Contains(c); }
+  std::size_t Index(const Eigen::Vector2i& c) const { return box_.Index(c); }
   Eigen::Vector2i CellAt(std::size_t index) const {
     const auto w = static_cast<std::size_t>(box_.width());
     return {box_.min.x() + static_cast<int>(index % w), box_.min.y() + static_cast<int>(index / w)};

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -24,6 +25,14 @@ struct CellBox {  // inclusive cell-index bounds; empty when min > max
     if (empty()) { min = max = c; return; }
     min = min.cwiseMin(c);
     max = max.cwiseMax(c);
+  }
+  bool Contains(const Eigen::Vector2i& c) const {
+    return c.x() >= min.x() && c.y() >= min.y() && c.x() <= max.x() && c.y() <= max.y();
+  }
+  // Row-major index of a contained cell in a dense window over the box.
+  std::size_t Index(const Eigen::Vector2i& c) const {
+    return static_cast<std::size_t>(c.y() - min.y()) * static_cast<std::size_t>(width()) +
+           static_cast<std::size_t>(c.x() - min.x());
   }
 };
 

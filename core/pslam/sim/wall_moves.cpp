@@ -90,10 +90,7 @@ bool MoveBlock(World& w, const Block& block, const Eigen::Vector2i& d, int clear
   for (const Eigen::Vector2i& c : block.cells) {
     if (!w.IsOccupied(c)) return false;  // an earlier move changed it
   }
-  const auto own = [&](const Eigen::Vector2i& c) {
-    return c.x() >= block.box.min.x() && c.y() >= block.box.min.y() && c.x() <= block.box.max.x() &&
-           c.y() <= block.box.max.y() && w.IsOccupied(c);
-  };
+  const auto own = [&](const Eigen::Vector2i& c) { return block.box.Contains(c) && w.IsOccupied(c); };
   for (int y = block.box.min.y() + d.y() - clearance; y <= block.box.max.y() + d.y() + clearance; ++y) {
     for (int x = block.box.min.x() + d.x() - clearance; x <= block.box.max.x() + d.x() + clearance; ++x) {
       const Eigen::Vector2i c(x, y);

@@ -39,10 +39,7 @@ class World {
     return {(c.x() + 0.5) * resolution_, (c.y() + 0.5) * resolution_};
   }
 
-  bool Contains(const Eigen::Vector2i& c) const {
-    return c.x() >= bounds_.min.x() && c.y() >= bounds_.min.y() && c.x() <= bounds_.max.x() &&
-           c.y() <= bounds_.max.y();
-  }
+  bool Contains(const Eigen::Vector2i& c) const { return bounds_.Contains(c); }
   // Cells outside the bounds are unknown.
   WorldCell At(const Eigen::Vector2i& c) const { return Contains(c) ? cells_[Index(c)] : WorldCell::kUnknown; }
   bool IsOccupied(const Eigen::Vector2i& c) const { return At(c) == WorldCell::kOccupied; }
@@ -62,10 +59,7 @@ class World {
   OccupancyGrid ToGrid() const;
 
  private:
-  std::size_t Index(const Eigen::Vector2i& c) const {
-    return static_cast<std::size_t>(c.y() - bounds_.min.y()) * static_cast<std::size_t>(bounds_.width()) +
-           static_cast<std::size_t>(c.x() - bounds_.min.x());
-  }
+  std::size_t Index(const Eigen::Vector2i& c) const { return bounds_.Index(c); }
 
   double resolution_;
   CellBox bounds_;

@@ -20,30 +20,22 @@ std::vector<HypothesisCell> TakeSealedOff(Hypothesis& h, const OccupancyGrid& ma
   const int margin = wall_reach_cells + 1;  // observed floor just outside the prediction joins it too
   box.Extend(box.min - Eigen::Vector2i(margin, margin));
   box.Extend(box.max + Eigen::Vector2i(margin, margin));
-  const int width = box.width(), height = box.height();
-  const auto inside = [&](const Eigen::Vector2i& c) {
-    return c.x() >= box.min.x() && c.y() >= box.min.y() && c.x() <= box.max.x() && c.y() <= box.max.y();
-  };
-  const auto index = [&](const Eigen::Vector2i& c) {
-    return static_cast<std::size_t>(c.y() - box.min.y()) * width + (c.x() - box.min.x());
-  };
-
-  std::vector<std::uint8_t> passage(static_cast<std::size_t>(width) * height, kBlocked);
+  std::vector<std::uint8_t> passage(static_cast<std::size_t>(box.width()) * box.height(), kBlocked);
   std::deque<Eigen::Vector2i> queue;
   for (int y = box.min.y(); y <= box.max.y(); ++y) {
     for (int x = box.min.x(); x <= box.max.x(); ++x) {
       const CellState s = classify(map.At(x, y));
       if (s == CellState::kFree) {
-        passage[index({x, y})] = kReached;
+        passage[box.Index({x, y})] = kReached;
         queue.push_back({x, y});
       } else if (s == CellState::kUncertain) {
-        passage[index({x, y})] = kOpen;
+        passage[box.Index({x, y})] = kOpen;
       }
     }
   }
   // Predictions decide over what the map has not (undecided cells are predicted too).
   for (const std::vector<HypothesisCell>* cells : {&h.cells, &h.undecided_cells}) {
-    for (const HypothesisCell& c : *cells) passage[index(c.cell)] = c.occupied ? kBlocked : kOpen;
+    for (const HypothesisCell& c : *cells) passage[box.Index(c.cell)] = c.occupied ? kBlocked : kOpen;
   }
   static const Eigen::Vector2i kSteps[4] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
   while (!queue.empty()) {
@@ -51,8 +43,8 @@ std::vector<HypothesisCell> TakeSealedOff(Hypothesis& h, const OccupancyGrid& ma
     queue.pop_front();
     for (const Eigen::Vector2i& step : kSteps) {
       const Eigen::Vector2i n = c + step;
-      if (!inside(n)) continue;
-      std::uint8_t& p = passage[index(n)];
+      if (!box.Contains(n)) continue;
+      std::uint8_t& p = passage[box.Index(n)];
       if (p != kOpen) continue;
       p = kReached;
       queue.push_back(n);
@@ -60,11 +52,11 @@ std::vector<HypothesisCell> TakeSealedOff(Hypothesis& h, const OccupancyGrid& ma
   }
 
   const auto joined = [&](const HypothesisCell& c) {
-    if (!c.occupied) return passage[index(c.cell)] == kReached;
+    if (!c.occupied) return passage[box.Index(c.cell)] == kReached;
     for (int dy = -wall_reach_cells; dy <= wall_reach_cells; ++dy) {
       for (int dx = -wall_reach_cells; dx <= wall_reach_cells; ++dx) {
         const Eigen::Vector2i n = c.cell + Eigen::Vector2i(dx, dy);
-        if (inside(n) && passage[index(n)] == kReached) return true;
+        if (box.Contains(n) && passage[box.Index(n)] == kReached) return true;
       }
     }
     return false;
