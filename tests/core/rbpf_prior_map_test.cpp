@@ -55,8 +55,16 @@ double WallColumns(const OccupancyGrid& map, int x0, int x1, int y0, int y1) {
   return static_cast<double>(walls) / (x1 - x0);
 }
 
+double FreeShare(const OccupancyGrid& map, int x0, int x1, int y0, int y1) {
+  int free = 0, n = 0;
+  for (int x = x0; x < x1; ++x) {
+    for (int y = y0; y < y1; ++y, ++n) free += map.IsKnown(x, y) && map.Probability(x, y) < 0.5f;
+  }
+  return static_cast<double>(free) / n;
+}
+
 // Drives east along y = 1.5 m, past the stub and the crate, and returns the filter.
-std::unique_ptr<Rbpf> DrivePast(double prior_max_probability) {
+std::unique_ptr<Rbpf> DrivePast(double prior_max_probability, double prior_forget_depth = 1.0) {
   const Pose2D start(1.0, 1.5, 0.0);
   Simulator sim(Room(false), start);
   RbpfOptions options;
@@ -66,6 +74,7 @@ std::unique_ptr<Rbpf> DrivePast(double prior_max_probability) {
   options.points.max_usable_range = 8.0;
   options.prior_map = OldMap();
   options.prior_max_probability = prior_max_probability;
+  options.prior_forget_depth = prior_forget_depth;
   auto filter = std::make_unique<Rbpf>(options);
   sim.SetCommand({0.3, 0.0});
   while (sim.time() < 24.0) {
@@ -88,8 +97,19 @@ TEST(RbpfPriorMapTest, AWallThatIsGoneIsOverwrittenAndANewOneAppears) {
 TEST(RbpfPriorMapTest, WithoutTheCapTheOldWallStays) {
   // The same drive with the prior at full confidence: the stub survives next to what the robot
   // sees, which is what the cap is for.
+  // About half its cells stay, against under a tenth with the cap.
   const auto filter = DrivePast(1.0);
-  EXPECT_GT(OccupiedShare(filter->best().map, 50, 80, 70, 72), 0.5);
+  EXPECT_GT(OccupiedShare(filter->best().map, 50, 80, 70, 72), 0.3);
+}
+
+TEST(RbpfPriorMapTest, TheOldFloorInsideANewCrateIsForgotten) {
+  // The robot sees only the crate's south face; the old map had floor where its inside is now.
+  const OccupancyGrid& map = DrivePast(0.75)->best().map;
+  EXPECT_LT(FreeShare(map, 92, 98, 69, 75), 0.1) << "the crate's inside is still the old floor";
+  EXPECT_GT(FreeShare(map, 60, 85, 40, 60), 0.9) << "floor the robot saw was lost";
+  EXPECT_GT(FreeShare(map, 250, 260, 10, 20), 0.99) << "old floor far from anything new was lost";
+  // Kept with a depth of 0, as before.
+  EXPECT_GT(FreeShare(DrivePast(0.75, 0.0)->best().map, 92, 98, 69, 75), 0.9);
 }
 
 TEST(RbpfPriorMapTest, ParticlesShareThePriorsUntouchedTiles) {

@@ -9,6 +9,7 @@
 #include "pslam/explore/path_planner.hpp"
 #include "pslam/explore/planning_grid.hpp"
 #include "pslam/filter/rbpf.hpp"
+#include "pslam/localize/mapping_handover.hpp"
 #include "pslam/localize/monte_carlo_localizer.hpp"
 
 namespace pslam {
@@ -40,6 +41,7 @@ ExtendTourResult RunExtendTour(const World& world, std::shared_ptr<const Occupan
   PathFollower follower;
   bool need_route = true;
   std::unique_ptr<Rbpf> filter;
+  MappingHandover handover(o.handover);
   ExtendTourResult result;
   Pose2D last_truth = start;
   while (result.distance < o.distance && sim.time() < o.max_time) {
@@ -61,7 +63,7 @@ ExtendTourResult RunExtendTour(const World& world, std::shared_ptr<const Occupan
       if (!filter) {
         const MclUpdate update = mcl.AddScan(*scan);
         ++result.localize_scans;
-        if (!update.localized) continue;
+        if (!handover.Ready(update)) continue;
         RbpfOptions mapping = o.mapping;
         mapping.seed = o.seed;
         mapping.prior_map = old_map;

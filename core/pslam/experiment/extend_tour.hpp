@@ -1,8 +1,9 @@
 #pragma once
 // Extend mode on a simulated robot: a map from an earlier session, a world that has changed since,
 // and a tour through it. The robot first localizes on the old map (Monte Carlo, from its start
-// with some spread), and once localized the mapping filter takes over, every particle's map
-// starting as the old map (RbpfOptions::prior_map) at the localized pose. The robot drives (on its
+// with some spread), and once MappingHandover allows it the mapping filter takes over, every
+// particle's map starting as the old map (RbpfOptions::prior_map) at the localized pose, the first
+// scan matched to it. The robot drives (on its
 // true pose; the driver is not what is measured) to the given places first, then along planned
 // paths to random goals. The result is the new map, to be scored against the changed world.
 #include <cstdint>
@@ -11,6 +12,7 @@
 
 #include "pslam/filter/rbpf_options.hpp"
 #include "pslam/grid/occupancy_grid.hpp"
+#include "pslam/localize/mapping_handover.hpp"
 #include "pslam/localize/mcl_options.hpp"
 #include "pslam/sim/simulator.hpp"
 #include "pslam/sim/world.hpp"
@@ -27,12 +29,13 @@ struct ExtendTourOptions {
   RbpfOptions mapping;               // prior_map and initial_pose are set by the tour
   SimulatorOptions sim;
   MclOptions mcl;
+  MappingHandoverOptions handover;
 };
 
 struct ExtendTourResult {
   OccupancyGrid map;                 // the best particle's map at the end (the new version)
   bool localized = false;            // mapping took over
-  int localize_scans = 0;            // scans the localizer took before it did
+  int localize_scans = 0;            // scans the localizer took before it did (MappingHandover)
   int scans = 0;
   double distance = 0.0;             // m driven
   double final_position_error = 0.0; // m, of the mapping filter's pose at the last scan

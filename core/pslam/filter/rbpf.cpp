@@ -9,6 +9,7 @@
 #include "pslam/filter/resampling.hpp"
 #include "pslam/grid/grid_transform.hpp"
 #include "pslam/grid/prior_map.hpp"
+#include "pslam/grid/stale_prior.hpp"
 #include "pslam/matching/scan_likelihood.hpp"
 #include "pslam/matching/scan_matcher.hpp"
 
@@ -55,6 +56,12 @@ void Rbpf::Resample(const std::vector<double>& weights) {
   particles_ = std::move(next);
 }
 
+void Rbpf::InsertScan(const ScanPoints& points, const Pose2D& pose, OccupancyGrid& map,
+                      OccupancyGrid* hypothesis) const {
+  inserter_.Insert(points, pose, map, hypothesis);
+  if (start_map_) ForgetPriorFloorBehindNewSurfaces(points, pose, *start_map_, options_.prior_forget_depth, map);
+}
+
 void Rbpf::Initialize(const LaserScan& scan) {
   const ScanPoints points = ToScanPoints(scan, options_.points);
   Particle first{options_.initial_pose, 0.0, OccupancyGrid(options_.resolution, options_.grid),
@@ -63,13 +70,18 @@ void Rbpf::Initialize(const LaserScan& scan) {
   if (options_.prior_map) {
     // Copies share the prior's tiles: a particle pays only for the tiles it changes.
     first.map = CapPriorConfidence(*options_.prior_map, options_.prior_max_probability);
-    if (loop_closer_) loop_closer_->SetBaseMap(first.map);
+    start_map_ = std::make_shared<const OccupancyGrid>(first.map);
+    // The given pose (a localizer's estimate) is a few centimetres off; every particle would start
+    // there and map its first scans there, so the first scan is matched to the prior first.
+    first.pose = MatchScan(first.map, points.hits, first.pose, options_.tracking_match).pose;
+    first.node = std::make_shared<TrajectoryNode>(TrajectoryNode{first.pose, 0, nullptr});
+    if (loop_closer_) loop_closer_->SetBaseMap(start_map_, options_.prior_forget_depth);
   }
-  inserter_.Insert(points, first.pose, first.map);
+  InsertScan(points, first.pose, first.map, nullptr);
   particles_.assign(static_cast<std::size_t>(std::max(1, options_.particles)), first);
   odometry_at_update_ = scan.odometry;
   tracked_.push_back(Pose2D());
-  last_pose_ = options_.initial_pose;
+  last_pose_ = first.pose;
   best_ = 0;
   if (loop_closer_) loop_closer_->AddNode(0, first.pose, points);
 }
@@ -116,7 +128,7 @@ RbpfStep Rbpf::AddScan(const LaserScan& scan) {
     }
     pool_.ParallelFor(static_cast<int>(particles_.size()), [&](int i) {
       Particle& p = particles_[static_cast<std::size_t>(i)];
-      inserter_.Insert(points, p.pose, p.map, has_hypotheses_ ? &p.hypothesis : nullptr);
+      InsertScan(points, p.pose, p.map, has_hypotheses_ ? &p.hypothesis : nullptr);
     });
     odometry_at_update_ = scan.odometry;
     if (loop_closer_) {

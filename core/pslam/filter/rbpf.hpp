@@ -117,6 +117,7 @@ class Rbpf {
 
  private:
   void Initialize(const LaserScan& scan);
+  void InsertScan(const ScanPoints& points, const Pose2D& pose, OccupancyGrid& map, OccupancyGrid* hypothesis) const;
   PredictionUse UpdateParticles(const Pose2D& motion, const std::vector<Eigen::Vector2f>& hits);
   void SelectBest();
   // Moves every particle onto the corrected trajectory and map; returns the move near the robot.
@@ -129,6 +130,8 @@ class Rbpf {
 
   RbpfOptions options_;
   ScanInserter inserter_;
+  // Extend mode: the prior as the particles started from it, for ForgetPriorFloorBehindNewSurfaces.
+  std::shared_ptr<const OccupancyGrid> start_map_;
   ThreadPool pool_;
   std::vector<Particle> particles_;
   int best_ = 0;

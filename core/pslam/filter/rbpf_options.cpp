@@ -12,6 +12,7 @@ const OptionTable<RbpfOptions>& Setters() {
       {"resolution", Option(&RbpfOptions::resolution)},
       {"linear_update", Option(&RbpfOptions::linear_update)},
       {"prior_max_probability", Option(&RbpfOptions::prior_max_probability)},
+      {"prior_forget_depth", Option(&RbpfOptions::prior_forget_depth)},
       {"angular_update", Option(&RbpfOptions::angular_update)},
       {"resample_threshold", Option(&RbpfOptions::resample_threshold)},
       {"likelihood_temperature", Option(&RbpfOptions::likelihood_temperature)},

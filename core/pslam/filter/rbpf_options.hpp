@@ -28,6 +28,9 @@ struct RbpfOptions {
   // a few scans of a changed area overwrite it; >= 1 keeps the prior as it is.
   std::shared_ptr<const OccupancyGrid> prior_map;
   double prior_max_probability = 0.75;
+  // Behind a hit on the prior's floor (something new stands there), the prior's floor the session
+  // has not seen yet is forgotten this deep (stale_prior.hpp); 0 keeps it.
+  double prior_forget_depth = 1.0;  // metres
   // The filter updates once the tracked motion since the last update exceeds either threshold;
   // scans in between are tracked against the best map only (stabilised odometry).
   double linear_update = 0.25;        // metres

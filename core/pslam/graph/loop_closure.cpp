@@ -7,6 +7,7 @@
 #include <queue>
 
 #include "pslam/graph/thinned_cloud.hpp"
+#include "pslam/grid/stale_prior.hpp"
 
 namespace pslam {
 namespace {
@@ -313,7 +314,11 @@ std::optional<LoopClosureCorrection> LoopCloser::Optimize(int n) {
 
 OccupancyGrid LoopCloser::Render() const {
   OccupancyGrid map = base_ ? *base_ : OccupancyGrid(resolution_);
-  for (int k = 0; k < graph_.size(); ++k) inserter_.Insert(nodes_[static_cast<std::size_t>(k)].points, graph_.pose(k), map);
+  for (int k = 0; k < graph_.size(); ++k) {
+    const ScanPoints& points = nodes_[static_cast<std::size_t>(k)].points;
+    inserter_.Insert(points, graph_.pose(k), map);
+    if (base_) ForgetPriorFloorBehindNewSurfaces(points, graph_.pose(k), *base_, base_forget_depth_, map);
+  }
   return map;
 }
 

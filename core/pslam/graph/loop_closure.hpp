@@ -53,8 +53,12 @@ class LoopCloser {
   // Optimises the closures found since the last optimisation (at the end of a log).
   std::optional<LoopClosureCorrection> Flush();
 
-  // The map that corrected maps are rendered on top of (a prior map in extend mode).
-  void SetBaseMap(const OccupancyGrid& base) { base_ = base; }
+  // The map that corrected maps are rendered on top of (a prior map in extend mode), with its floor
+  // behind new surfaces forgotten as the filter does (ForgetPriorFloorBehindNewSurfaces).
+  void SetBaseMap(std::shared_ptr<const OccupancyGrid> base, double forget_depth) {
+    base_ = std::move(base);
+    base_forget_depth_ = forget_depth;
+  }
 
   const LoopClosureStats& stats() const { return stats_; }
   const PoseGraph& graph() const { return graph_; }
@@ -91,7 +95,8 @@ class LoopCloser {
   LoopClosureOptions options_;
   ScanInserter inserter_;
   double resolution_;
-  std::optional<OccupancyGrid> base_;
+  std::shared_ptr<const OccupancyGrid> base_;
+  double base_forget_depth_ = 0.0;
   ThreadPool* pool_;
   PoseGraph graph_;
   std::vector<Node> nodes_;

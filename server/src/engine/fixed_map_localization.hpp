@@ -8,6 +8,7 @@
 #include "model/engine_stats.hpp"
 #include "model/session_settings.hpp"
 #include "pslam/filter/rbpf.hpp"
+#include "pslam/localize/mapping_handover.hpp"
 #include "pslam/localize/monte_carlo_localizer.hpp"
 
 namespace pslam::server {
@@ -33,10 +34,14 @@ class FixedMapLocalization {
   const std::vector<Pose2D>& trajectory() const { return trajectory_; }
   const RbpfStats& stats() const { return stats_; }
   LocalizationStats status() const;
+  // Extend mode: the pose is good enough to start mapping from (MappingHandover).
+  bool ready_to_map() const { return ready_to_map_; }
 
  private:
   std::shared_ptr<const OccupancyGrid> map_;
   MonteCarloLocalizer mcl_;
+  MappingHandover handover_;
+  bool ready_to_map_ = false;
   std::vector<Pose2D> trajectory_;
   RbpfStats stats_;
 };

@@ -196,7 +196,7 @@ PipelineStep SlamPipeline::Add(const InputRecord& input) {
   step.scan = std::make_shared<const LaserScan>(ToLaserScan(input, laser_));
   if (localization_) {
     step.filter = localization_->Add(*step.scan);
-    if (settings_.mode == "extend" && localization_->status().localized) {
+    if (settings_.mode == "extend" && localization_->ready_to_map()) {
       StartMapping(step.filter.pose);
     } else {
       if (planner_) {
