@@ -44,9 +44,10 @@ constexpr const char* kUsage =
     "  and weighs particles with the predictions; --no-predict runs the plain RBPF, --no-recovery\n"
     "  keeps predictions in use even when hit ratios say they are wrong. --hypotheses writes every\n"
     "  hypothesis as JSON, --merged-map the map with the predictions not refuted merged in.\n"
-    "  --prior-map extends a map_server map: every particle starts from it, the first scan at\n"
-    "  --initial-pose (its frame), and what the log sees overwrites what changed (the prior's\n"
-    "  confidence is capped at --set prior_max_probability=P, default 0.75; 1 keeps it).\n";
+    "  --prior-map extends a map_server map: every particle starts from it, the first scan matched\n"
+    "  to it near --initial-pose (its frame), and what the log sees overwrites what changed (the\n"
+    "  prior's confidence is capped at --set prior_max_probability=P, default 0.9; 1 keeps it; its\n"
+    "  floor behind a surface that is new is forgotten up to --set prior_forget_depth=M, default 1).\n";
 
 double PeakRssMiB() {
   rusage usage{};

@@ -14,6 +14,7 @@ namespace {
 
 constexpr double kResolution = 0.05;
 constexpr int kW = 160, kH = 100;  // an 8 m x 5 m room
+const double kDefaultCap = RbpfOptions{}.prior_max_probability;
 
 // The room as it is now (a crate at 4.5 m, 3.5 m) or as it was mapped (a wall stub at y = 3.5 m
 // from x = 2.5 m to 4 m, and no crate).
@@ -87,7 +88,7 @@ std::unique_ptr<Rbpf> DrivePast(double prior_max_probability, double prior_forge
 }
 
 TEST(RbpfPriorMapTest, AWallThatIsGoneIsOverwrittenAndANewOneAppears) {
-  const auto filter = DrivePast(0.75);
+  const auto filter = DrivePast(kDefaultCap);
   const OccupancyGrid& map = filter->best().map;
   EXPECT_LT(OccupiedShare(map, 50, 80, 70, 72), 0.1) << "the old wall stub is still in the map";
   EXPECT_GT(WallColumns(map, 90, 100, 65, 68), 0.8) << "the crate's south face is missing";
@@ -104,16 +105,16 @@ TEST(RbpfPriorMapTest, WithoutTheCapTheOldWallStays) {
 
 TEST(RbpfPriorMapTest, TheOldFloorInsideANewCrateIsForgotten) {
   // The robot sees only the crate's south face; the old map had floor where its inside is now.
-  const OccupancyGrid& map = DrivePast(0.75)->best().map;
+  const OccupancyGrid& map = DrivePast(kDefaultCap)->best().map;
   EXPECT_LT(FreeShare(map, 92, 98, 69, 75), 0.1) << "the crate's inside is still the old floor";
   EXPECT_GT(FreeShare(map, 60, 85, 40, 60), 0.9) << "floor the robot saw was lost";
   EXPECT_GT(FreeShare(map, 250, 260, 10, 20), 0.99) << "old floor far from anything new was lost";
   // Kept with a depth of 0, as before.
-  EXPECT_GT(FreeShare(DrivePast(0.75, 0.0)->best().map, 92, 98, 69, 75), 0.9);
+  EXPECT_GT(FreeShare(DrivePast(kDefaultCap, 0.0)->best().map, 92, 98, 69, 75), 0.9);
 }
 
 TEST(RbpfPriorMapTest, ParticlesShareThePriorsUntouchedTiles) {
-  const auto filter = DrivePast(0.75);
+  const auto filter = DrivePast(kDefaultCap);
   const OccupancyGrid& first = filter->particles().front().map;
   const int tx = 250 >> OccupancyGrid::kTileBits, ty = 10 >> OccupancyGrid::kTileBits;
   ASSERT_NE(first.TileAt(tx, ty), nullptr);

@@ -27,7 +27,7 @@ struct RbpfOptions {
   // from nothing. Its cells' confidence is capped at prior_max_probability (prior_map.hpp), so that
   // a few scans of a changed area overwrite it; >= 1 keeps the prior as it is.
   std::shared_ptr<const OccupancyGrid> prior_map;
-  double prior_max_probability = 0.75;
+  double prior_max_probability = 0.9;  // a wall then clears after 6 misses instead of 9
   // Behind a hit on the prior's floor (something new stands there), the prior's floor the session
   // has not seen yet is forgotten this deep (stale_prior.hpp); 0 keeps it.
   double prior_forget_depth = 1.0;  // metres
