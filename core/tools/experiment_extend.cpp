@@ -27,7 +27,7 @@ constexpr const char* kUsage =
     "  free-standing obstacles move 1 m sideways (deterministic for --move-seed, 1; --write-changed\n"
     "  saves PREFIX-SEED). They move only where the first map shows them. A\n"
     "  second session localizes on the first version in the changed world, then extends it while\n"
-    "  touring the places that changed and M (120) m of random goals, with the prior's confidence\n"
+    "  touring both sides of each change and M (120) m of random goals, with the prior's confidence\n"
     "  capped and again without the cap. Prints Psi (occupied cells, one-cell tolerance) of each\n"
     "  map against its world, for seeds S, S+1, ... (--runs N, default 1), and of the first map's\n"
     "  walls where the world is free now, the share each new map still has as wall.\n";
@@ -103,13 +103,15 @@ int RunExtendExperiment(CliArgs& cli) {
       tour.mapping.loop_closure.enabled = false;
       tour.visit_first.clear();
       for (const WallMove& m : moves) {
-        // Beside the old place, on the side the piece moved away from: it sees both places.
+        // Beside the old place, on the side the piece moved away from, then beside the new place's
+        // far side, which the first spot cannot see.
         const double res = changed.resolution();
         const Eigen::Vector2d move = (m.to.min - m.from.min).cast<double>() * res;
         const Eigen::Vector2d half = Eigen::Vector2d(m.from.width(), m.from.height()) * 0.5 * res;
         const Eigen::Vector2d dir = move.normalized();
         const Eigen::Vector2d centre = (m.from.min + m.from.max).cast<double>() * 0.5 * res;
         tour.visit_first.push_back(centre - dir * (std::abs(dir.dot(half)) + 0.7));
+        tour.visit_first.push_back(centre + move + dir * (std::abs(dir.dot(half)) + 0.6));
       }
       const ExtendTourResult capped = RunExtendTour(changed, old_map, world->start, tour);
       ExtendTourOptions no_cap = tour;
