@@ -118,6 +118,40 @@ TEST(LocalizeMclTest, PlaceRecognitionKeepsTheOfficeWingsApartUntilTheScansTellT
   EXPECT_GT(wrongly_localized(plain), 0);
 }
 
+TEST(LocalizeMclTest, TheParticlesTellALookAlikeFromThePlaceAsTheRobotDrives) {
+  // Thirty-two identical rooms on two corridors: the search names a rival for the first places it
+  // finds. The particles are then drawn around the best place and that rival, and the scans that
+  // follow weigh them: the estimate settles on the right one long before the search finds a place
+  // without a rival, which is still what it takes to report the robot localized.
+  const ShippedMap offices = Load("repetitive_office");
+  LocalizationTourOptions options;
+  options.seed = 2;
+  options.global = true;
+  options.distance = 30.0;
+  struct Outcome {
+    std::optional<double> converged;
+    std::optional<double> reported;  // m driven at the first scan reported localized
+    int wrongly = 0;
+  };
+  const auto run = [&](bool track) {
+    options.mcl.track_look_alikes = track;
+    const LocalizationTourResult tour = RunLocalizationTour(offices.world, offices.map, offices.start, options);
+    Outcome out{ConvergenceDistance(tour.samples, 0.2), std::nullopt, 0};
+    for (const LocalizationSample& s : tour.samples) {
+      if (s.localized && !out.reported) out.reported = s.distance;
+      out.wrongly += s.localized && (s.estimate.translation() - s.truth.translation()).norm() >= 0.2;
+    }
+    return out;
+  };
+  const Outcome tracked = run(true), searched = run(false);
+  ASSERT_TRUE(tracked.converged && searched.converged && tracked.reported && searched.reported);
+  EXPECT_LT(*tracked.converged, 1.0);
+  EXPECT_GT(*searched.converged, *tracked.converged + 2.0);
+  EXPECT_DOUBLE_EQ(*tracked.reported, *searched.reported);
+  EXPECT_EQ(tracked.wrongly, 0);
+  EXPECT_EQ(searched.wrongly, 0);
+}
+
 TEST(LocalizeMclTest, RecoversAfterTheRobotIsCarriedElsewhere) {
   const ShippedMap room = Load("irregular");
   LocalizationTourOptions options;

@@ -27,6 +27,7 @@ const OptionTable<MclOptions>& Setters() {
       {"fill_min_agreement", Option(&MclOptions::fill_min_agreement)},
       {"fill_min_checked", Option(&MclOptions::fill_min_checked)},
       {"refine", Option(&MclOptions::refine)},
+      {"track_look_alikes", Option(&MclOptions::track_look_alikes)},
       {"refine_max_points", Option(&MclOptions::refine_max_points)},
       {"refine_gain", Option(&MclOptions::refine_gain)},
       {"refine_max_shift", Option(&MclOptions::refine_max_shift)},

@@ -125,6 +125,12 @@ struct MclOptions {
   // (place_recognizer.hpp) and starts tracking where that place is unique; while look-alike places
   // remain, the localizer does not report itself localized, whatever its particles agree on.
   PlaceRecognitionOptions place;
+  // When the search finds the best place and a look-alike, the particles are drawn around both
+  // (once per search for the place) and the scans that follow weigh them, so the estimate is most
+  // often at the right place long before the search tells it apart; localized is still reported
+  // only once the search finds a place without a rival. On the office map an exploration built,
+  // the estimate was within 0.2 m after 12 m of travel instead of 35 (docs/localization.md).
+  bool track_look_alikes = true;
   std::uint64_t seed = 1;
 };
 

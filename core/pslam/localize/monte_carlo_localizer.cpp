@@ -75,6 +75,7 @@ void MonteCarloLocalizer::Reset(std::vector<Pose2D> poses) {
   ++step_;
   last_.searching = false;
   last_.place = PlaceMatch{};
+  look_alikes_drawn_ = false;
   Summarize();
 }
 
@@ -226,6 +227,7 @@ MclUpdate MonteCarloLocalizer::AddScan(const LaserScan& scan) {
   if (last_.injection_probability > 0.0 && places_ && !last_.searching) {
     places_->Reset();
     last_.searching = true;
+    look_alikes_drawn_ = false;
   }
   ++stats_.updates;
   Summarize();
@@ -274,10 +276,38 @@ void MonteCarloLocalizer::SearchPlace(const std::vector<Eigen::Vector2f>& hits, 
     last_.place = match;
     return;
   }
+  if (options_.track_look_alikes && last_.place.outcome == PlaceMatch::Outcome::kAmbiguous && !look_alikes_drawn_) {
+    DrawAroundLookAlikes(last_.place, odometry);
+    return;
+  }
+  if (look_alikes_drawn_) {
+    // The particles stand around the candidates and weigh them as the robot drives, so the
+    // estimate is most often at the right one well before the search can tell; being localized
+    // is still the search's to say: a cluster's share of the weight is no proof (resampling lets
+    // one of two equal places win by chance).
+    last_.localized = false;
+    return;
+  }
   // Until a place is recognized, the particles' agreement is no proof: a spread cloud settles on a
   // look-alike place as readily as on the right one. Only where no place explains the last metres
   // (a map that lacks what the robot sees) is their verdict all there is.
   if (last_.place.outcome != PlaceMatch::Outcome::kNone || !places_->searched()) last_.localized = false;
+}
+
+void MonteCarloLocalizer::DrawAroundLookAlikes(const PlaceMatch& match, const Pose2D& odometry) {
+  std::vector<Pose2D> poses(static_cast<std::size_t>(options_.max_particles));
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::mt19937_64 rng = MakeStream(options_.seed, step_, kStart);
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const Pose2D& centre = i % 2 == 0 ? match.pose : match.rival;
+    poses[i] = Pose2D(centre.x + 0.05 * gauss(rng), centre.y + 0.05 * gauss(rng), centre.theta + 0.03 * gauss(rng));
+  }
+  Reset(std::move(poses));
+  update_odometry_ = odometry;  // the particles stand at this scan's pose
+  last_.searching = true;       // the search goes on: a unique place still settles it
+  last_.place = match;
+  last_.localized = false;
+  look_alikes_drawn_ = true;
 }
 
 void MonteCarloLocalizer::RefineEstimate(const std::vector<Eigen::Vector2f>& hits, const Pose2D& odometry) {

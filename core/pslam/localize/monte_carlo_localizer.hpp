@@ -83,6 +83,7 @@ class MonteCarloLocalizer {
   // Both take the scan's endpoints in the robot frame.
   void RefineEstimate(const std::vector<Eigen::Vector2f>& hits, const Pose2D& odometry);
   void SearchPlace(const std::vector<Eigen::Vector2f>& hits, const Pose2D& odometry);
+  void DrawAroundLookAlikes(const PlaceMatch& match, const Pose2D& odometry);
   void FillUnknown(const std::vector<Eigen::Vector2f>& hits);  // MclOptions::fill_unknown
 
   MclOptions options_;
@@ -104,6 +105,7 @@ class MonteCarloLocalizer {
   Pose2D report_odometry_;
   MclUpdate last_;
   MclStats stats_;
+  bool look_alikes_drawn_ = false;  // the particles stand around a place and its look-alike
 };
 
 }  // namespace pslam
