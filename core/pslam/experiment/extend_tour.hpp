@@ -3,9 +3,9 @@
 // and a tour through it. The robot first localizes on the old map (Monte Carlo, from its start
 // with some spread), and once MappingHandover allows it the mapping filter takes over, every
 // particle's map starting as the old map (RbpfOptions::prior_map) at the localized pose, the first
-// scan matched to it. The robot drives (on its
-// true pose; the driver is not what is measured) to the given places first, then along planned
-// paths to random goals. The result is the new map, to be scored against the changed world.
+// scan matched to it. The robot drives (on its true pose; the driver is not what is measured) to
+// the given places first, then along planned paths to random goals. The result is the new map, to
+// be scored against the changed world.
 #include <cstdint>
 #include <memory>
 #include <vector>

@@ -1,7 +1,5 @@
 #include "pslam/grid/stale_prior.hpp"
 
-#include <cmath>
-
 #include "pslam/grid/ray_caster.hpp"
 
 namespace pslam {
