@@ -18,6 +18,8 @@ namespace {
 // from it in turn. (The mapping filter gives each particle a stream of its own, since it weighs
 // them on several threads; seeding one per particle cost more here than the draws.)
 enum Stream : std::uint64_t { kStart = 1, kMotion = 2, kResample = 3, kInjection = 4 };
+// Standard deviations (m, m, rad) of the particles drawn around a place the search found.
+const Eigen::Vector3d kPlaceSpread(0.05, 0.05, 0.03);
 
 double LogAddExp(double a, double b) {
   const double top = std::max(a, b);
@@ -87,14 +89,20 @@ void MonteCarloLocalizer::SetPose(const Pose2D& mean, const Eigen::Matrix3d& cov
   }
   const Eigen::Matrix3d root =
       eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * eigen.eigenvectors().transpose();
+  Reset(DrawAround({mean}, root));
+}
+
+std::vector<Pose2D> MonteCarloLocalizer::DrawAround(const std::vector<Pose2D>& centres, const Eigen::Matrix3d& root) {
   std::vector<Pose2D> poses(static_cast<std::size_t>(options_.max_particles));
   std::normal_distribution<double> gauss(0.0, 1.0);
   std::mt19937_64 rng = MakeStream(options_.seed, step_, kStart);
   for (std::size_t i = 0; i < poses.size(); ++i) {
+    const Pose2D& centre = centres[i % centres.size()];
     const Eigen::Vector3d z(gauss(rng), gauss(rng), gauss(rng));
     const Eigen::Vector3d d = root * z;
-    poses[i] = Pose2D(mean.x + d.x(), mean.y + d.y(), mean.theta + d.z());
+    poses[i] = Pose2D(centre.x + d.x(), centre.y + d.y(), centre.theta + d.z());
   }
+  return poses;
   Reset(std::move(poses));
 }
 
@@ -270,7 +278,7 @@ void MonteCarloLocalizer::SearchPlace(const std::vector<Eigen::Vector2f>& hits, 
     const PlaceMatch match = last_.place;
     const std::vector<Eigen::Vector2f> points = SelectEvenly(hits, options_.refine_max_points);
     const Pose2D place = points.empty() ? match.pose : field_.Refine(points, match.pose, 2.0 * options_.place.search_resolution, 0.05);
-    SetPose(place, Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, 0.03 * 0.03).asDiagonal());
+    SetPose(place, kPlaceSpread.cwiseProduct(kPlaceSpread).asDiagonal());
     update_odometry_ = odometry;  // the particles stand at this scan's pose
     last_.estimate = place;
     last_.place = match;
@@ -295,14 +303,8 @@ void MonteCarloLocalizer::SearchPlace(const std::vector<Eigen::Vector2f>& hits, 
 }
 
 void MonteCarloLocalizer::DrawAroundLookAlikes(const PlaceMatch& match, const Pose2D& odometry) {
-  std::vector<Pose2D> poses(static_cast<std::size_t>(options_.max_particles));
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  std::mt19937_64 rng = MakeStream(options_.seed, step_, kStart);
-  for (std::size_t i = 0; i < poses.size(); ++i) {
-    const Pose2D& centre = i % 2 == 0 ? match.pose : match.rival;
-    poses[i] = Pose2D(centre.x + 0.05 * gauss(rng), centre.y + 0.05 * gauss(rng), centre.theta + 0.03 * gauss(rng));
-  }
-  Reset(std::move(poses));
+  const Eigen::Matrix3d root = kPlaceSpread.asDiagonal();
+  Reset(DrawAround({match.pose, match.rival}, root));
   update_odometry_ = odometry;  // the particles stand at this scan's pose
   last_.searching = true;       // the search goes on: a unique place still settles it
   last_.place = match;

@@ -77,6 +77,8 @@ class MonteCarloLocalizer {
  private:
   Pose2D RandomFreePose(std::mt19937_64& rng) const;
   void Reset(std::vector<Pose2D> poses);
+  // max_particles poses, the i-th drawn around centres[i % size] as root * N(0, I) (kStart stream).
+  std::vector<Pose2D> DrawAround(const std::vector<Pose2D>& centres, const Eigen::Matrix3d& root);
   void Weigh(const std::vector<Eigen::Vector2f>& points);
   void Resample();
   void Summarize();
