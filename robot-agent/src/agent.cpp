@@ -1,5 +1,6 @@
 #include "agent.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -40,7 +41,7 @@ std::filesystem::path ReplayFile(const AgentOptions& o) { return std::filesystem
 }  // namespace
 
 Agent::Agent(AgentOptions options, std::unique_ptr<ScanSource> source)
-    : options_(std::move(options)), source_(std::move(source)), follower_(options_.follower), safety_(options_.safety) {
+    : options_(std::move(options)), source_(std::move(source)), follower_(options_.follower), safety_(options_.safety), stall_(options_.stall) {
   SpoolOptions spool;
   spool.directory = options_.spool_dir;
   spool.max_bytes = static_cast<std::uint64_t>(options_.spool_max_mb * 1024 * 1024);
@@ -173,6 +174,9 @@ void Agent::DriveTick(double now) {
   VelocityCommand wanted;
   if (latest_odometry_) wanted.w = look_around_.Update(latest_odometry_->pose.theta);
   if (latest_odometry_ && !look_around_.active() && path_active_) {
+    follower_.set_lookahead_distance(stall_.careful(now) ? std::min(options_.follower.lookahead_distance,
+                                                                     options_.stall.careful_lookahead_m)
+                                                         : options_.follower.lookahead_distance);
     const FollowerOutput out = follower_.Update(latest_odometry_->pose);
     wanted = {out.command.linear, out.command.angular};
     if (out.goal_reached) {
@@ -180,7 +184,18 @@ void Agent::DriveTick(double now) {
       if (logged_target_) PSLAM_LOG(kInfo) << "target reached";
     }
   }
-  const SafetyDecision decision = safety_.Filter(wanted, now, link_->status().last_server_message_time);
+  SafetyDecision decision = safety_.Filter(wanted, now, link_->status().last_server_message_time);
+  const bool may_move = decision.reason == StopReason::kNone || decision.reason == StopReason::kObstacle;
+  if (may_move && latest_odometry_) {
+    decision.command = stall_.Filter(decision.command, latest_odometry_->pose, now);
+    if (stall_.stalls() > stats_.stalls) {
+      stats_.stalls = stall_.stalls();
+      PSLAM_LOG(kWarning) << "the wheels stalled: commanded forward, the robot did not move for "
+                          << options_.stall.stall_s << " s; backing off " << options_.stall.back_off_s << " s";
+    }
+  } else {
+    stall_.Reset();
+  }
   if (decision.reason != stats_.stop_reason) {
     if (decision.reason != StopReason::kNone && (wanted.v != 0 || wanted.w != 0 || decision.reason == StopReason::kObstacle)) {
       PSLAM_LOG(kWarning) << "robot stopped: " << ToString(decision.reason);

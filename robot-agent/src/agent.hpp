@@ -14,6 +14,7 @@
 
 #include "agent_options.hpp"
 #include "drive/safety.hpp"
+#include "drive/stall_recovery.hpp"
 #include "link/messages.hpp"
 #include "link/server_link.hpp"
 #include "link/spool.hpp"
@@ -35,6 +36,7 @@ struct AgentStats {
   std::uint64_t dropped_spool_full = 0;
   std::uint64_t targets = 0;
   StopReason stop_reason = StopReason::kNone;
+  int stalls = 0;  // times the wheels stalled against something and the robot backed off
 };
 
 class Agent {
@@ -75,6 +77,7 @@ class Agent {
   LookAround look_around_;  // a target's turn in place, before its path is followed
   std::optional<std::array<double, 2>> logged_target_;  // the target last named in the log
   SafetyMonitor safety_;
+  StallRecovery stall_;
   AgentStats stats_;
   const std::atomic<bool>* stop_ = nullptr;
   std::optional<OdometryReading> latest_odometry_;

@@ -8,6 +8,7 @@
 #include "devices/p2os_client.hpp"
 #include "devices/sick_client.hpp"
 #include "drive/safety.hpp"
+#include "drive/stall_recovery.hpp"
 #include "link/server_link.hpp"
 #include "link/spool.hpp"
 #include "pslam/explore/path_follower.hpp"
@@ -49,6 +50,7 @@ struct AgentOptions {
   bool drive = true;
   FollowerOptions follower;  // core's pure pursuit (pslam/explore/path_follower.hpp)
   SafetyOptions safety;
+  StallOptions stall;
 
   double status_period_s = 10.0;
   bool verbose = false;

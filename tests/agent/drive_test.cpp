@@ -5,6 +5,7 @@
 
 #include "drive/path_frames.hpp"
 #include "drive/safety.hpp"
+#include "drive/stall_recovery.hpp"
 
 namespace pslam::agent {
 namespace {
@@ -67,6 +68,44 @@ TEST(SafetyTest, LostLinkAndStaleLaserStopEverything) {
   d = safety.Filter({0.3, 0.5}, 10.6, 10.5);  // laser silent for 0.6 s
   EXPECT_EQ(d.reason, StopReason::kNoScan);
   EXPECT_EQ(d.command, VelocityCommand{});
+}
+
+TEST(StallRecoveryTest, ARobotThatDoesNotMoveWhenToldToBacksOffThenDrivesAgain) {
+  StallRecovery stall;  // 2 s without 2 cm of progress, then 1.5 s backing off at 0.1 m/s
+  const VelocityCommand forward{0.2, 0.1};
+  const Pose2D pinned(1.0, 2.0, 0.5);
+  double t = 0.0;
+  for (; t < 1.95; t += 0.1) EXPECT_EQ(stall.Filter(forward, pinned, t), forward) << t;
+  const VelocityCommand back = stall.Filter(forward, pinned, 2.05);
+  EXPECT_LT(back.v, 0.0);
+  EXPECT_EQ(back.w, 0.0);
+  EXPECT_EQ(stall.stalls(), 1);
+  EXPECT_TRUE(stall.backing_off(3.0));
+  EXPECT_LT(stall.Filter(forward, pinned, 3.4).v, 0.0);
+  EXPECT_EQ(stall.Filter(forward, Pose2D(0.85, 2.0, 0.5), 3.6), forward);  // done: forward again
+  EXPECT_TRUE(stall.careful(10.0));
+  EXPECT_FALSE(stall.careful(14.0));
+}
+
+TEST(StallRecoveryTest, SlowProgressStandingAndTurningInPlaceAreNoStall) {
+  StallRecovery stall;
+  const VelocityCommand forward{0.2, 0.0}, turn{0.0, 0.8};
+  for (int i = 0; i < 100; ++i) {  // 10 s at 1.5 cm/s: slow, but moving
+    EXPECT_EQ(stall.Filter(forward, Pose2D(0.0015 * i, 0.0, 0.0), 0.1 * i), forward) << i;
+  }
+  for (int i = 0; i < 100; ++i) EXPECT_EQ(stall.Filter(turn, Pose2D(0.2, 0.0, 0.08 * i), 10.0 + 0.1 * i), turn);
+  for (int i = 0; i < 100; ++i) EXPECT_EQ(stall.Filter({}, Pose2D(0.2, 0.0, 0.0), 20.0 + 0.1 * i), VelocityCommand{});
+  EXPECT_EQ(stall.stalls(), 0);
+}
+
+TEST(StallRecoveryTest, AResetEndsTheBackOff) {
+  StallRecovery stall;
+  const VelocityCommand forward{0.2, 0.0};
+  for (double t = 0.0; t < 2.2; t += 0.1) stall.Filter(forward, Pose2D(), t);
+  ASSERT_TRUE(stall.backing_off(2.3));
+  stall.Reset();  // the link was lost: the safety layer stops the robot, and the back-off is over
+  EXPECT_FALSE(stall.backing_off(2.3));
+  EXPECT_EQ(stall.Filter(forward, Pose2D(), 2.4), forward);
 }
 
 }  // namespace

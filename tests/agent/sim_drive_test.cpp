@@ -62,9 +62,12 @@ bool OdometryReached(FakeIngestServer& server, const Eigen::Vector2d& goal) {
 }
 
 // A 6 m x 3 m walled room, the robot at (1, 1.5) facing the far wall 5 m away: a short run into an
-// obstacle. Returns the YAML path.
-std::string WriteRoomWorld(const TempDir& dir) {
+// obstacle. With a post, a 5 cm square at the robot's left shoulder, 0.252 m from its centre
+// (the disc is 0.25 m) and behind the laser's plane (0.16 m ahead of the centre): no beam sees it.
+// Returns the YAML path.
+std::string WriteRoomWorld(const TempDir& dir, bool post = false) {
   World room(0.05, CellBox{{0, 0}, {120, 60}}, WorldCell::kFree);
+  if (post) room.Set({20, 35}, WorldCell::kOccupied);  // x 1.00-1.05, y 1.75-1.80
   for (int i = 0; i <= 120; ++i) {
     room.Set({i, 0}, WorldCell::kOccupied);
     room.Set({i, 60}, WorldCell::kOccupied);
@@ -170,6 +173,24 @@ TEST_F(SimDriveTest, StopsBeforeAnObstacleOnThePath) {
   const double gap = wall_x - sim.true_pose().x;  // centre to the wall's face
   EXPECT_GT(gap, 0.21 + 0.15) << "the front edge came within 15 cm of the wall";
   EXPECT_LT(gap, 1.2) << "stopped far too early";
+}
+
+TEST_F(SimDriveTest, BacksOffWhenPinnedAgainstWhatTheLaserCannotSee) {
+  // The path bends left at once, so the robot's first arc presses its shoulder on the post: every
+  // forward command stalls. Without a recovery it stands there for good.
+  const Pose2D start(1.0, 1.5, 0.0);
+  StartAgent(4.0, 1.5, WriteRoomWorld(dir_, true));
+  server_.SendToAll(Target(start, {1.8, 2.0}));
+  ASSERT_TRUE(WaitFor(
+      [&] {
+        const auto odom = Odometry(server_);
+        return !odom.empty() && odom.back().x < start.x - 0.1;
+      },
+      30.0))
+      << "the robot did not back away from the post";
+  StopAgent();
+  EXPECT_GE(source_->simulator().collision_count(), 1u);
+  EXPECT_GE(agent_->stats().stalls, 1);
 }
 
 TEST_F(SimDriveTest, LostLinkStopsTheRobot) {
