@@ -43,7 +43,6 @@ class PathFollower {
   const std::vector<Eigen::Vector2d>& path() const { return path_; }
   // A shorter lookahead follows the path more closely and cuts its corners less.
   void set_lookahead_distance(double metres) { options_.lookahead_distance = metres; }
-  const FollowerOptions& options() const { return options_; }
 
   // The command for the robot at 'pose'. Progress along the path only moves forward, so a path
   // that doubles back is followed in order. No path, or the goal within tolerance: stop, reached.
