@@ -103,7 +103,6 @@ std::vector<Pose2D> MonteCarloLocalizer::DrawAround(const std::vector<Pose2D>& c
     poses[i] = Pose2D(centre.x + d.x(), centre.y + d.y(), centre.theta + d.z());
   }
   return poses;
-  Reset(std::move(poses));
 }
 
 void MonteCarloLocalizer::StartGlobal() {
