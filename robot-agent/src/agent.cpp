@@ -41,7 +41,11 @@ std::filesystem::path ReplayFile(const AgentOptions& o) { return std::filesystem
 }  // namespace
 
 Agent::Agent(AgentOptions options, std::unique_ptr<ScanSource> source)
-    : options_(std::move(options)), source_(std::move(source)), follower_(options_.follower), safety_(options_.safety), stall_(options_.stall) {
+    : options_(std::move(options)),
+      source_(std::move(source)),
+      follower_(options_.follower),
+      safety_(options_.safety),
+      stall_(options_.stall) {
   SpoolOptions spool;
   spool.directory = options_.spool_dir;
   spool.max_bytes = static_cast<std::uint64_t>(options_.spool_max_mb * 1024 * 1024);
