@@ -1,6 +1,5 @@
 #include "agent.hpp"
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -178,9 +177,7 @@ void Agent::DriveTick(double now) {
   VelocityCommand wanted;
   if (latest_odometry_) wanted.w = look_around_.Update(latest_odometry_->pose.theta);
   if (latest_odometry_ && !look_around_.active() && path_active_) {
-    follower_.set_lookahead_distance(stall_.careful(now) ? std::min(options_.follower.lookahead_distance,
-                                                                     options_.stall.careful_lookahead_m)
-                                                         : options_.follower.lookahead_distance);
+    follower_.set_lookahead_distance(stall_.Lookahead(options_.follower.lookahead_distance, now));
     const FollowerOutput out = follower_.Update(latest_odometry_->pose);
     wanted = {out.command.linear, out.command.angular};
     if (out.goal_reached) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <numbers>
 #include <stdexcept>
 #include <utility>
@@ -44,6 +45,15 @@ Pose2D FarFreePose(const World& world, const Pose2D& from) {
   }
   ADD_FAILURE() << "no free pose";
   return from;
+}
+
+// A tour with no start pose given (global localization).
+LocalizationTourOptions GlobalTour(double distance, std::uint64_t seed = 1) {
+  LocalizationTourOptions options;
+  options.seed = seed;
+  options.global = true;
+  options.distance = distance;
+  return options;
 }
 
 // Scans reported localized with the estimate 0.2 m or more from the truth.
@@ -87,9 +97,7 @@ TEST(LocalizeMclTest, RefiningTheEstimateOnTheMapBeatsTheParticleCloud) {
 
 TEST(LocalizeMclTest, GlobalLocalizationConvergesWithoutAStartPose) {
   const ShippedMap room = Load("irregular");
-  LocalizationTourOptions options;
-  options.global = true;
-  options.distance = 30.0;
+  const LocalizationTourOptions options = GlobalTour(30.0);
   const LocalizationTourResult run = RunLocalizationTour(room.world, room.map, room.start, options);
   EXPECT_FALSE(run.samples.front().localized);
   const std::optional<double> converged = ConvergenceDistance(run.samples, 0.2);
@@ -107,10 +115,7 @@ TEST(LocalizeMclTest, PlaceRecognitionKeepsTheOfficeWingsApartUntilTheScansTellT
   // localized; searched for as a whole, the last metres name their rivals until the robot has seen
   // what tells the places apart, and only then does tracking start.
   const ShippedMap office = Load("office");
-  LocalizationTourOptions options;
-  options.seed = 4;
-  options.global = true;
-  options.distance = 35.0;
+  LocalizationTourOptions options = GlobalTour(35.0, 4);
   const LocalizationTourResult recognized = RunLocalizationTour(office.world, office.map, office.start, options);
   ASSERT_TRUE(ConvergenceDistance(recognized.samples, 0.2).has_value());
   EXPECT_EQ(WronglyLocalized(recognized.samples), 0);
@@ -127,10 +132,7 @@ TEST(LocalizeMclTest, TheParticlesTellALookAlikeFromThePlaceAsTheRobotDrives) {
   // follow weigh them: the estimate settles on the right one long before the search finds a place
   // without a rival, which is still what it takes to report the robot localized.
   const ShippedMap offices = Load("repetitive_office");
-  LocalizationTourOptions options;
-  options.seed = 2;
-  options.global = true;
-  options.distance = 30.0;
+  LocalizationTourOptions options = GlobalTour(30.0, 2);
   struct Outcome {
     std::optional<double> converged;
     std::optional<double> reported;  // m driven at the first scan reported localized
@@ -189,9 +191,7 @@ TEST(LocalizeMclTest, RecoversAfterTheRobotIsCarriedElsewhere) {
 
 TEST(LocalizeMclTest, SameSeedSameEstimates) {
   const ShippedMap maze = Load("maze");
-  LocalizationTourOptions options;
-  options.distance = 8.0;
-  options.global = true;
+  LocalizationTourOptions options = GlobalTour(8.0);
   const LocalizationTourResult a = RunLocalizationTour(maze.world, maze.map, maze.start, options);
   const LocalizationTourResult b = RunLocalizationTour(maze.world, maze.map, maze.start, options);
   ASSERT_EQ(a.samples.size(), b.samples.size());

@@ -20,6 +20,7 @@ class MappingHandover {
   // Takes the localizer's step at each scan; true once the pose may be handed over (and from then
   // on).
   bool Ready(const MclUpdate& update);
+  bool ready() const { return ready_; }
 
  private:
   MappingHandoverOptions options_;

@@ -7,6 +7,8 @@
 // layer, and the odometry did not move for stall_s, the robot backs straight off for back_off_s:
 // what it touches lies ahead of its centre, or it could have driven on. For careful_s after
 // that, the path is followed with a shorter lookahead, so it cuts the corner less.
+#include <algorithm>
+
 #include "drive/velocity_command.hpp"
 #include "pslam/common/pose2d.hpp"
 
@@ -34,6 +36,10 @@ class StallRecovery {
 
   bool backing_off(double now) const { return now < back_off_until_; }
   bool careful(double now) const { return now < careful_until_; }
+  // The follower's lookahead at 'now': 'normal', or careful_lookahead_m if shorter while careful.
+  double Lookahead(double normal, double now) const {
+    return careful(now) ? std::min(normal, options_.careful_lookahead_m) : normal;
+  }
   int stalls() const { return stalls_; }
 
  private:

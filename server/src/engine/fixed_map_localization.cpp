@@ -17,7 +17,7 @@ void FixedMapLocalization::SetPose(const InitialPose& p) {
 
 RbpfStep FixedMapLocalization::Add(const LaserScan& scan) {
   const MclUpdate u = mcl_.AddScan(scan);
-  ready_to_map_ = handover_.Ready(u);
+  handover_.Ready(u);
   RbpfStep step;
   step.updated = u.updated;
   step.resampled = u.resampled;

@@ -35,13 +35,12 @@ class FixedMapLocalization {
   const RbpfStats& stats() const { return stats_; }
   LocalizationStats status() const;
   // Extend mode: the pose is good enough to start mapping from (MappingHandover).
-  bool ready_to_map() const { return ready_to_map_; }
+  bool ready_to_map() const { return handover_.ready(); }
 
  private:
   std::shared_ptr<const OccupancyGrid> map_;
   MonteCarloLocalizer mcl_;
   MappingHandover handover_;
-  bool ready_to_map_ = false;
   std::vector<Pose2D> trajectory_;
   RbpfStats stats_;
 };
