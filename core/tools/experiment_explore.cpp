@@ -17,6 +17,7 @@
 #include "pslam/experiment/equal_coverage.hpp"
 #include "pslam/experiment/map_alignment.hpp"
 #include "pslam/experiment/map_similarity.hpp"
+#include "pslam/experiment/observable_truth.hpp"
 #include "pslam/io/map_io.hpp"
 #include "pslam/predict/library_map.hpp"
 
@@ -44,7 +45,9 @@ constexpr const char* kUsage =
     "  area that full coverage mapped, less --coverage-tolerance (0.02); a skip run that never gets\n"
     "  there saves 0. Pairs where a run hit --time-limit, or full coverage ended below 90 % of the\n"
     "  reachable area, are listed but left out of the time figures. Without --time-limit each world\n"
-    "  gets 8 simulated seconds per m^2 of its free area, at least 2400 s.\n";
+    "  gets 8 simulated seconds per m^2 of its free area, at least 2400 s. Predictions are scored against the\n"
+    "  true world, and against what a laser could map of it from the reachable floor (m_seen): the floor\n"
+    "  and the faces around it, without the inside of solid blocks or sealed rooms.\n";
 
 struct ExploreRow {
   std::string name;
@@ -53,8 +56,10 @@ struct ExploreRow {
   ExplorationSummary summary;
   MapAlignment alignment;          // built map against the true world: psi as it lies, laid_psi laid onto it
   std::vector<double> psi_truth;   // per accepted hypothesis, against the true world
+  std::vector<double> psi_observable;  // the same against what a laser could map of it (ObservableTruth)
   std::vector<bool> from_library;  // per accepted hypothesis: its reference is a library map
   double merged_psi = std::numeric_limits<double>::quiet_NaN();
+  double merged_psi_observable = std::numeric_limits<double>::quiet_NaN();
   double merged_area_m2 = 0.0;
   double mapped_or_predicted = 0.0;  // share of the reachable free area mapped or predicted at the end
   CoverageTrace coverage;
@@ -97,9 +102,11 @@ std::string RowJson(const ExploreRow& row) {
                      {"alignment_shift_m", JsonNumber(row.alignment.centre_shift)},
                      {"alignment_turn_rad", JsonNumber(row.alignment.move.theta)},
                      {"merged_psi", JsonNumber(row.merged_psi)},
+                     {"merged_psi_observable", JsonNumber(row.merged_psi_observable)},
                      {"merged_predicted_area_m2", JsonNumber(row.merged_area_m2)},
                      {"mapped_or_predicted_fraction", JsonNumber(row.mapped_or_predicted)},
                      {"psi_truth", JsonArray(row.psi_truth)},
+                     {"psi_observable", JsonArray(row.psi_observable)},
                      {"library_hypotheses", JsonNumber(static_cast<double>(
                                                 std::count(row.from_library.begin(), row.from_library.end(), true)))}});
 }
@@ -133,8 +140,8 @@ void PrintRow(const ExploreRow& row) {
 constexpr double kCoverageSamplePeriodS = 10.0;
 
 ExploreRow RunOne(const std::string& name, const WorldChoice& world, const OccupancyGrid& truth,
-                  const OccupancyGrid& reachable, const ExplorationOptions& options, ProgressLine& progress,
-                  const std::string& save_prefix) {
+                  const OccupancyGrid& observable, const OccupancyGrid& reachable, const ExplorationOptions& options,
+                  ProgressLine& progress, const std::string& save_prefix) {
   ExplorationRun run(world.world, world.start, options);
   ExploreRow row;
   row.name = name;
@@ -151,7 +158,10 @@ ExploreRow RunOne(const std::string& name, const WorldChoice& world, const Occup
   row.summary = run.Summary();
   const OccupancyGrid& built = run.slam().filter().best().map;
   row.alignment = AlignMap(built, truth);
-  for (const auto& cells : AcceptedCellsInWorld(run)) row.psi_truth.push_back(PredictionSimilarity(cells, truth));
+  for (const auto& cells : AcceptedCellsInWorld(run)) {
+    row.psi_truth.push_back(PredictionSimilarity(cells, truth));
+    row.psi_observable.push_back(PredictionSimilarity(cells, observable));
+  }
   for (const Hypothesis& h : run.accepted_hypotheses()) row.from_library.push_back(!h.reference_map.empty());
   const JudgeAgreement agreement = CountJudgedAsTruth(run, row.psi_truth);
   row.judged = agreement.judged;
@@ -160,6 +170,7 @@ ExploreRow RunOne(const std::string& name, const WorldChoice& world, const Occup
   if (options.slam.predict) {
     merged = MergedPredictedCells(run.slam(), [&run](int id) { return AcceptedMapToWorld(run, id); });
     row.merged_psi = PredictionSimilarity(merged, truth);
+    row.merged_psi_observable = PredictionSimilarity(merged, observable);
     row.merged_area_m2 = static_cast<double>(merged.size()) * truth.resolution() * truth.resolution();
   }
   row.mapped_or_predicted = row.coverage.Final();
@@ -187,8 +198,8 @@ struct ExplorePair {
 constexpr double kCompleteCoverage = 0.9;
 
 void PrintPairHeader() {
-  std::printf("%-28s %4s %8s %8s %9s %9s %8s %8s %8s  %s\n", "world", "seed", "full_s", "skip_s", "cov_full",
-              "cov_skip", "equal_at", "saved", "merged", "flags");
+  std::printf("%-28s %4s %8s %8s %9s %9s %8s %8s %8s %8s  %s\n", "world", "seed", "full_s", "skip_s", "cov_full",
+              "cov_skip", "equal_at", "saved", "merged", "m_seen", "flags");
 }
 
 void PrintPair(const ExplorePair& p) {
@@ -202,11 +213,11 @@ void PrintPair(const ExplorePair& p) {
   char skip_time[32];
   if (p.saving.skip_reached) std::snprintf(skip_time, sizeof skip_time, "%.0f", p.saving.skip_time_s);
   else std::snprintf(skip_time, sizeof skip_time, "never");
-  std::printf("%-28s %4llu %8.1f %8.1f %8.1f%% %8.1f%% %8.1f%% %5.0f/%-5s %7.1f%% %8.3f  %s\n", p.full.world.c_str(),
+  std::printf("%-28s %4llu %8.1f %8.1f %8.1f%% %8.1f%% %8.1f%% %5.0f/%-5s %7.1f%% %8.3f %8.3f  %s\n", p.full.world.c_str(),
               static_cast<unsigned long long>(p.full.seed), p.full.summary.time_s, p.skip.summary.time_s,
               100.0 * p.full.mapped_or_predicted, 100.0 * p.skip.mapped_or_predicted, 100.0 * p.saving.target,
               p.saving.full_time_s, skip_time, 100.0 * p.saving.saved_fraction, p.skip.merged_psi,
-              flags.empty() ? "-" : flags.c_str());
+              p.skip.merged_psi_observable,              flags.empty() ? "-" : flags.c_str());
 }
 
 // The library's hypotheses of a skip run: how many, and their mean Psi against the true world.
@@ -274,6 +285,7 @@ int RunExploreExperiment(CliArgs& cli) {
       if (!time_limit_given) world_options.time_limit_s = ExplorationTimeBudget(world.world);
       const OccupancyGrid truth = world.world.ToGrid();
       const OccupancyGrid reachable = ReachableFreeCells(world.world, world.start.translation());
+      const OccupancyGrid observable = ObservableTruth(world.world, reachable);
       std::printf("world %s, start (%.2f, %.2f, %.3f), time limit %.0f s\n", world.path.c_str(), world.start.x,
                   world.start.y, world.start.theta, world_options.time_limit_s);
       for (int r = 0; r < runs; ++r) {
@@ -284,19 +296,19 @@ int RunExploreExperiment(CliArgs& cli) {
         full.slam.predict = false;
         full.explore.mode = ExploreMode::kFullCoverage;
         ExplorePair pair;
-        pair.full = RunOne("RBPF, full coverage", world, truth, reachable, full, progress,
+        pair.full = RunOne("RBPF, full coverage", world, truth, observable, reachable, full, progress,
                            prefix.empty() ? "" : prefix + "_full");
         ExplorationOptions skip = seeded;
         skip.slam.predict = true;
         skip.explore.mode = pslam_mode == "full" ? ExploreMode::kFullCoverage : ExploreMode::kSkipPredicted;
         const std::string skip_name = pslam_mode == "full" ? "P-SLAM, full coverage" : "P-SLAM, skip predicted";
         if (!library.empty()) {
-          pair.skip_alone = RunOne(skip_name, world, truth, reachable, skip, progress,
+          pair.skip_alone = RunOne(skip_name, world, truth, observable, reachable, skip, progress,
                                    prefix.empty() ? "" : prefix + "_skip_alone");
           pair.saving_alone = CompareAtEqualCoverage(pair.full.coverage, pair.skip_alone->coverage, tolerance);
           skip.slam.library = library;
         }
-        pair.skip = RunOne(library.empty() ? skip_name : skip_name + ", library", world, truth, reachable, skip,
+        pair.skip = RunOne(library.empty() ? skip_name : skip_name + ", library", world, truth, observable, reachable, skip,
                            progress, prefix.empty() ? "" : prefix + "_skip");
         pair.saving = CompareAtEqualCoverage(pair.full.coverage, pair.skip.coverage, tolerance);
         pair.time_limit_s = world_options.time_limit_s;
@@ -329,13 +341,15 @@ int RunExploreExperiment(CliArgs& cli) {
     }
 
     // Population figures. Time figures only over pairs where neither run hit the time limit.
-    std::vector<double> saved, equal_full, equal_skip, end_full, end_skip, merged_psi, hypothesis_psi, per_run_psi,
+    std::vector<double> saved, equal_full, equal_skip, end_full, end_skip, merged_psi, merged_psi_observable,
+        hypothesis_psi, hypothesis_psi_observable, per_run_psi,
         per_run_good, covered_full, covered_skip, hypotheses, map_psi_full, map_psi_skip, aligned_full, aligned_skip;
     int incomplete_pairs = 0, time_limit_pairs = 0, full_limits = 0, skip_limits = 0, stopped_early = 0, judged = 0, judged_as_truth = 0;
     for (const ExplorePair& p : pairs) {
       full_limits += p.full.summary.state == ExplorationState::kTimeLimit;
       skip_limits += p.skip.summary.state == ExplorationState::kTimeLimit;
       merged_psi.push_back(p.skip.merged_psi);
+      merged_psi_observable.push_back(p.skip.merged_psi_observable);
       covered_full.push_back(p.full.mapped_or_predicted);
       covered_skip.push_back(p.skip.mapped_or_predicted);
       hypotheses.push_back(p.skip.summary.hypotheses);
@@ -344,6 +358,8 @@ int RunExploreExperiment(CliArgs& cli) {
       aligned_full.push_back(p.full.alignment.laid_psi);
       aligned_skip.push_back(p.skip.alignment.laid_psi);
       hypothesis_psi.insert(hypothesis_psi.end(), p.skip.psi_truth.begin(), p.skip.psi_truth.end());
+      hypothesis_psi_observable.insert(hypothesis_psi_observable.end(), p.skip.psi_observable.begin(),
+                                       p.skip.psi_observable.end());
       int scored = 0;
       per_run_psi.push_back(FiniteMean(p.skip.psi_truth, &scored));
       if (scored > 0) {
@@ -379,8 +395,13 @@ int RunExploreExperiment(CliArgs& cli) {
                 SpreadText(SpreadOf(equal_skip), 1.0, "%.0f").c_str());
     std::printf("time to the end          full %s s, skip %s s\n", SpreadText(SpreadOf(end_full), 1.0, "%.0f").c_str(),
                 SpreadText(SpreadOf(end_skip), 1.0, "%.0f").c_str());
+    const auto at_least = [](const std::vector<double>& values, double bound) {
+      return static_cast<int>(std::count_if(values.begin(), values.end(), [bound](double v) { return v >= bound; }));
+    };
     std::printf("merged Psi vs truth      %s  (runs >= 0.7: %d)\n", SpreadText(SpreadOf(merged_psi)).c_str(),
-                static_cast<int>(std::count_if(merged_psi.begin(), merged_psi.end(), [](double v) { return v >= 0.7; })));
+                at_least(merged_psi, 0.7));
+    std::printf("  vs what can be seen    %s  (runs >= 0.7: %d; the truth but inside solids and sealed rooms)\n",
+                SpreadText(SpreadOf(merged_psi_observable)).c_str(), at_least(merged_psi_observable, 0.7));
     std::printf("mapped or predicted      full %s %%, skip %s %% of the reachable free area\n",
                 SpreadText(SpreadOf(covered_full), 100.0, "%.1f").c_str(),
                 SpreadText(SpreadOf(covered_skip), 100.0, "%.1f").c_str());
@@ -389,6 +410,10 @@ int RunExploreExperiment(CliArgs& cli) {
                 "share >= 0.4 %s\n",
                 hypothesis_psi.size(), mean_hypothesis_psi, scored, good, scored ? 100.0 * good / scored : 0.0,
                 SpreadText(SpreadOf(per_run_psi)).c_str(), SpreadText(SpreadOf(per_run_good)).c_str());
+    int scored_observable = 0;
+    const double mean_observable = FiniteMean(hypothesis_psi_observable, &scored_observable);
+    std::printf("  vs what can be seen    mean %.3f over %d scored, %d >= 0.4\n", mean_observable, scored_observable,
+                at_least(hypothesis_psi_observable, 0.4));
     std::printf("judge vs true world      %d of %d confirmed/refuted hypotheses agree with Psi vs truth >= %.2f\n",
                 judged_as_truth, judged, options.slam.judge.confirm_psi);
     std::printf("built map vs true world  Psi RBPF %s, P-SLAM %s\n", SpreadText(SpreadOf(map_psi_full)).c_str(),
@@ -441,10 +466,12 @@ int RunExploreExperiment(CliArgs& cli) {
                                 {"time_to_equal_full_s", SpreadJson(SpreadOf(equal_full))},
                                 {"time_to_equal_skip_s", SpreadJson(SpreadOf(equal_skip))},
                                 {"merged_psi", SpreadJson(SpreadOf(merged_psi))},
+                                {"merged_psi_observable", SpreadJson(SpreadOf(merged_psi_observable))},
                                 {"mapped_or_predicted_full", SpreadJson(SpreadOf(covered_full))},
                                 {"mapped_or_predicted_skip", SpreadJson(SpreadOf(covered_skip))},
                                 {"hypotheses", JsonNumber(static_cast<double>(hypothesis_psi.size()))},
                                 {"mean_hypothesis_psi_truth", JsonNumber(mean_hypothesis_psi)},
+                                {"mean_hypothesis_psi_observable", JsonNumber(mean_observable)},
                                 {"pairs", JsonArray(rows)}}));
     }
     return 0;

@@ -92,7 +92,7 @@ def fmt(v, pattern):
     return "-" if v is None else pattern % v
 
 rows = {}
-print("| world | seed | full: position error, map Psi (laid onto the world first), state | skip: position error, map Psi (laid onto the world first), state | merged Psi | saved at equal coverage | flags |")
+print("| world | seed | full: position error, map Psi (laid onto the world first), state | skip: position error, map Psi (laid onto the world first), state | merged Psi (vs what can be seen) | saved at equal coverage | flags |")
 print("| --- | --- | --- | --- | --- | --- | --- |")
 for line in sys.stdin:
     world, seed, path = line.split()
@@ -104,27 +104,29 @@ for line in sys.stdin:
     if not pair["skip_reached_equal_coverage"]:
         flags.append("skip_below_equal_coverage")
     rows.setdefault(world, []).append((full, skip, saved))
-    print("| %s | %s | %s m, %s (%s), %s | %s m, %s (%s), %s | %s | %s | %s |" % (
+    print("| %s | %s | %s m, %s (%s), %s | %s m, %s (%s), %s | %s (%s) | %s | %s |" % (
         world, seed, fmt(full["mean_position_error_m"], "%.3f"), fmt(full["map_psi"], "%.3f"),
         fmt(full["aligned_map_psi"], "%.3f"), full["state"],
         fmt(skip["mean_position_error_m"], "%.3f"), fmt(skip["map_psi"], "%.3f"),
         fmt(skip["aligned_map_psi"], "%.3f"), skip["state"],
-        fmt(skip["merged_psi"], "%.3f"), fmt(None if saved is None else 100 * saved, "%.1f %%"),
+        fmt(skip["merged_psi"], "%.3f"), fmt(skip.get("merged_psi_observable"), "%.3f"), fmt(None if saved is None else 100 * saved, "%.1f %%"),
         ", ".join(flags) or "-"))
 
 print()
-print("| world | runs | full: mean position error (worst) | full: <= 0.3 m | full: map Psi mean; >= 0.75 | full: laid onto the world first | merged Psi mean; >= 0.7 | saved at equal coverage, mean (pairs timed) |")
-print("| --- | --- | --- | --- | --- | --- | --- | --- |")
+print("| world | runs | full: mean position error (worst) | full: <= 0.3 m | full: map Psi mean; >= 0.75 | full: laid onto the world first | merged Psi mean; >= 0.7 | vs what can be seen | saved at equal coverage, mean (pairs timed) |")
+print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
 for world, runs in rows.items():
     n = len(runs)
     errors = [f["mean_position_error_m"] for f, _, _ in runs]
     psis = [f["map_psi"] for f, _, _ in runs]
     aligned = [f["aligned_map_psi"] for f, _, _ in runs]
     merged = [s["merged_psi"] for _, s, _ in runs if s["merged_psi"] is not None]
+    seen = [s["merged_psi_observable"] for _, s, _ in runs if s.get("merged_psi_observable") is not None]
     saved = [v for _, _, v in runs if v is not None]
-    print("| %s | %d | %.3f m (%.3f) | %d of %d | %.3f; %d of %d | %.3f; %d of %d | %s | %s |" % (
+    print("| %s | %d | %.3f m (%.3f) | %d of %d | %.3f; %d of %d | %.3f; %d of %d | %s | %s | %s |" % (
         world, n, sum(errors) / n, max(errors), sum(e <= 0.3 for e in errors), n,
         sum(psis) / n, sum(p >= 0.75 for p in psis), n, sum(aligned) / n, sum(p >= 0.75 for p in aligned), n,
         "%.3f; %d of %d" % (sum(merged) / len(merged), sum(m >= 0.7 for m in merged), len(merged)) if merged else "-",
+        "%.3f; %d of %d" % (sum(seen) / len(seen), sum(m >= 0.7 for m in seen), len(seen)) if seen else "-",
         "%.1f %% (%d)" % (100 * sum(saved) / len(saved), len(saved)) if saved else "-"))
 '
