@@ -142,8 +142,24 @@ export function stopChild(child, signal = 'SIGTERM', timeoutMs = 15000) {
   });
 }
 
+// Temporary folders of this test file. They go when it exits with every test passed, and stay
+// (named on stderr) when one failed: a failed run's database and logs are what explains it.
+const tempDirs = [];
+
 export function tempDir(prefix) {
-  return mkdtempSync(join(tmpdir(), prefix));
+  const dir = mkdtempSync(join(tmpdir(), prefix));
+  // Registered from the first call, inside a test, so it runs after node:test has set the exit code.
+  if (tempDirs.length === 0) process.on('exit', removeTempDirsIfPassed);
+  tempDirs.push(dir);
+  return dir;
+}
+
+function removeTempDirsIfPassed(code) {
+  if (code || process.exitCode) {
+    console.error(`kept for diagnosis: ${tempDirs.join(' ')}`);
+    return;
+  }
+  for (const dir of tempDirs) rmSync(dir, { recursive: true, force: true });
 }
 
 export async function waitFor(what, fn, { timeoutMs = 60000, intervalMs = 250 } = {}) {
