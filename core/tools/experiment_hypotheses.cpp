@@ -13,7 +13,9 @@
 #include <vector>
 
 #include "experiment_common.hpp"
+#include "pslam/experiment/equal_coverage.hpp"
 #include "pslam/experiment/map_similarity.hpp"
+#include "pslam/experiment/observable_truth.hpp"
 #include "pslam/io/map_io.hpp"
 
 namespace pslam {
@@ -85,13 +87,14 @@ HypothesesResult RunOneWorld(const WorldChoice& world, ExplorationOptions option
   ExplorationRun run(world.world, world.start, options);
   const ExplorationSummary summary = RunExplorationWithProgress(run, "P-SLAM " + mode, progress);
   const OccupancyGrid truth = world.world.ToGrid();
+  const OccupancyGrid observable = ObservableTruth(world.world, ReachableFreeCells(world.world, world.start.translation()));
   const OccupancyGrid& built = run.slam().filter().best().map;
 
   // Hypotheses overlap (targets a few metres apart predict much the same space): the predicted
   // area is that of the union of their cells; the sum of their areas is reported beside it.
   double summed_area = 0.0;
   OccupancyGrid predicted_cells(built.resolution());
-  std::vector<double> psi_final, psi_final_paper_cells, psi_truth, psi_search;
+  std::vector<double> psi_final, psi_final_paper_cells, psi_truth, psi_observable, psi_search;
   const int pool = std::max(1, static_cast<int>(std::lround(kPaperResolution / built.resolution())));
   const OccupancyGrid pooled_built = PoolGrid(built, pool);
   const std::vector<std::vector<HypothesisCell>> in_world = AcceptedCellsInWorld(run);
@@ -102,6 +105,7 @@ HypothesesResult RunOneWorld(const WorldChoice& world, ExplorationOptions option
     psi_final.push_back(PredictionSimilarity(h.cells, built));
     psi_final_paper_cells.push_back(PredictionSimilarity(PoolCells(h.cells, pool), pooled_built, kNoTolerance));
     psi_truth.push_back(PredictionSimilarity(in_world[i], truth));
+    psi_observable.push_back(PredictionSimilarity(in_world[i], observable));
     psi_search.push_back(h.psi);
   }
   const double predicted_area = KnownArea(predicted_cells);
@@ -139,6 +143,7 @@ HypothesesResult RunOneWorld(const WorldChoice& world, ExplorationOptions option
   std::snprintf(paper_cells_name, sizeof paper_cells_name, "  eq. 5 on %.2f m cells", built.resolution() * pool);
   row(paper_cells_name, paper_cells_summary);
   row("vs true world", truth_summary);
+  row("  what can be seen", Summarize(psi_observable));
   std::printf("paper (vs final map)   %6d %8d %7.1f%% %6.3f %6.3f %6.3f\n", 56, 36, 64.3, 0.51, 0.10, 0.86);
   std::printf("distribution (Fig. 10)  Psi bin:    ");
   for (int b = 0; b < 10; ++b) std::printf(" %3.1f", 0.1 * b);
