@@ -7,13 +7,14 @@
 # onto the world first (map_alignment.hpp): what is left is the map's own inconsistency, not how
 # far it sits off as a whole.
 #
-# Usage: tests/bench/explore_bench.sh [--worlds LIST] [--seeds LIST] [--jobs J]
+# Usage: tests/bench/explore_bench.sh [--worlds LIST] [--seeds LIST] [--jobs J] [--keep DIR]
 #                                     [-- OPTIONS OF pslam experiment explore...]
 #   --worlds LIST  shipped worlds by name (maze, office, irregular, repetitive_office: the files
 #                  core/worlds/NAME.yaml) and generated ones as FAMILY:SEED (school:24);
 #                  default maze
 #   --seeds LIST   run seeds, e.g. 1-10 (default), 1,3,7 or 1-3,9
 #   --jobs J       pairs at once (1); each pair runs on one thread
+#   --keep DIR     keep each run's JSON and output there (default: a temporary folder)
 #   after --        passed on, e.g. -- --set tracking_match.coarsest_level=1 --time-limit 600
 # PSLAM_BIN=PATH runs that pslam binary instead of build/bin/pslam.
 # Progress goes to stderr. When a run fails, the script stops the others, names the one that
@@ -26,11 +27,13 @@ world_list=maze
 seed_list=1-10
 jobs=1
 passed=()
+keep=
 while (( $# )); do
   case $1 in
     --worlds) world_list=${2:?}; shift ;;
     --seeds) seed_list=${2:?}; shift ;;
     --jobs) jobs=${2:?}; shift ;;
+    --keep) keep=${2:?}; shift ;;
     --) shift; passed=("$@"); break ;;
     -h|--help) usage ;;
     *) echo "explore_bench: unknown option '$1'" >&2; usage ;;
@@ -57,8 +60,13 @@ world_args() {
 }
 for world in "${worlds[@]}"; do world_args "$world" >/dev/null; done
 
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+if [[ -n $keep ]]; then
+  mkdir -p "$keep"
+  tmp=$(cd "$keep" && pwd)
+else
+  tmp=$(mktemp -d)
+  trap 'rm -rf "$tmp"' EXIT
+fi
 
 run_one() {
   local world=$1 seed=$2 status=0
@@ -129,4 +137,23 @@ for world, runs in rows.items():
         "%.3f; %d of %d" % (sum(merged) / len(merged), sum(m >= 0.7 for m in merged), len(merged)) if merged else "-",
         "%.3f; %d of %d" % (sum(seen) / len(seen), sum(m >= 0.7 for m in seen), len(seen)) if seen else "-",
         "%.1f %% (%d)" % (100 * sum(saved) / len(saved), len(saved)) if saved else "-"))
+
+# The whole population at once, as the targets are stated: every pair, every hypothesis.
+pairs = [r for runs in rows.values() for r in runs]
+saved = [v for _, _, v in pairs if v is not None]
+def share(values, bound):
+    return "%d of %d" % (sum(v >= bound for v in values), len(values)) if values else "-"
+def mean(values):
+    return "%.3f" % (sum(values) / len(values)) if values else "-"
+merged = [s["merged_psi"] for _, s, _ in pairs if s["merged_psi"] is not None]
+seen = [s["merged_psi_observable"] for _, s, _ in pairs if s.get("merged_psi_observable") is not None]
+hyp = [v for _, s, _ in pairs for v in s["psi_truth"] if v is not None]
+hyp_seen = [v for _, s, _ in pairs for v in s.get("psi_observable", []) if v is not None]
+print()
+print("| all %d pairs | saved at equal coverage, mean (pairs timed) | merged Psi >= 0.7 (mean) | vs what can be seen | hypotheses Psi >= 0.4 (mean) | vs what can be seen |" % len(pairs))
+print("| --- | --- | --- | --- | --- | --- |")
+print("| | %s | %s (%s) | %s (%s) | %s (%s) | %s (%s) |" % (
+    "%.1f %% (%d)" % (100 * sum(saved) / len(saved), len(saved)) if saved else "-",
+    share(merged, 0.7), mean(merged), share(seen, 0.7), mean(seen),
+    share(hyp, 0.4), mean(hyp), share(hyp_seen, 0.4), mean(hyp_seen)))
 '
