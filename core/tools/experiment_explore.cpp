@@ -45,9 +45,9 @@ constexpr const char* kUsage =
     "  area that full coverage mapped, less --coverage-tolerance (0.02); a skip run that never gets\n"
     "  there saves 0. Pairs where a run hit --time-limit, or full coverage ended below 90 % of the\n"
     "  reachable area, are listed but left out of the time figures. Without --time-limit each world\n"
-    "  gets 8 simulated seconds per m^2 of its free area, at least 2400 s. Predictions are scored against the\n"
-    "  true world, and against what a laser could map of it from the reachable floor (m_seen): the floor\n"
-    "  and the faces around it, without the inside of solid blocks or sealed rooms.\n";
+    "  gets 8 simulated seconds per m^2 of its free area, at least 2400 s. Predictions are scored\n"
+    "  against the true world, and against what a laser could map of it from the reachable floor\n"
+    "  (m_seen): the floor and the faces around it, not the inside of solid blocks or sealed rooms.\n";
 
 struct ExploreRow {
   std::string name;
@@ -213,11 +213,12 @@ void PrintPair(const ExplorePair& p) {
   char skip_time[32];
   if (p.saving.skip_reached) std::snprintf(skip_time, sizeof skip_time, "%.0f", p.saving.skip_time_s);
   else std::snprintf(skip_time, sizeof skip_time, "never");
-  std::printf("%-28s %4llu %8.1f %8.1f %8.1f%% %8.1f%% %8.1f%% %5.0f/%-5s %7.1f%% %8.3f %8.3f  %s\n", p.full.world.c_str(),
-              static_cast<unsigned long long>(p.full.seed), p.full.summary.time_s, p.skip.summary.time_s,
+  std::printf("%-28s %4llu %8.1f %8.1f %8.1f%% %8.1f%% %8.1f%% %5.0f/%-5s %7.1f%% %8.3f %8.3f  %s\n",
+              p.full.world.c_str(), static_cast<unsigned long long>(p.full.seed), p.full.summary.time_s,
+              p.skip.summary.time_s,
               100.0 * p.full.mapped_or_predicted, 100.0 * p.skip.mapped_or_predicted, 100.0 * p.saving.target,
               p.saving.full_time_s, skip_time, 100.0 * p.saving.saved_fraction, p.skip.merged_psi,
-              p.skip.merged_psi_observable,              flags.empty() ? "-" : flags.c_str());
+              p.skip.merged_psi_observable, flags.empty() ? "-" : flags.c_str());
 }
 
 // The library's hypotheses of a skip run: how many, and their mean Psi against the true world.
@@ -308,8 +309,8 @@ int RunExploreExperiment(CliArgs& cli) {
           pair.saving_alone = CompareAtEqualCoverage(pair.full.coverage, pair.skip_alone->coverage, tolerance);
           skip.slam.library = library;
         }
-        pair.skip = RunOne(library.empty() ? skip_name : skip_name + ", library", world, truth, observable, reachable, skip,
-                           progress, prefix.empty() ? "" : prefix + "_skip");
+        pair.skip = RunOne(library.empty() ? skip_name : skip_name + ", library", world, truth, observable, reachable,
+                           skip, progress, prefix.empty() ? "" : prefix + "_skip");
         pair.saving = CompareAtEqualCoverage(pair.full.coverage, pair.skip.coverage, tolerance);
         pair.time_limit_s = world_options.time_limit_s;
         pair.time_limit = pair.full.summary.state == ExplorationState::kTimeLimit ||

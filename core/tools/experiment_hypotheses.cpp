@@ -87,7 +87,8 @@ HypothesesResult RunOneWorld(const WorldChoice& world, ExplorationOptions option
   ExplorationRun run(world.world, world.start, options);
   const ExplorationSummary summary = RunExplorationWithProgress(run, "P-SLAM " + mode, progress);
   const OccupancyGrid truth = world.world.ToGrid();
-  const OccupancyGrid observable = ObservableTruth(world.world, ReachableFreeCells(world.world, world.start.translation()));
+  const OccupancyGrid observable =
+      ObservableTruth(world.world, ReachableFreeCells(world.world, world.start.translation()));
   const OccupancyGrid& built = run.slam().filter().best().map;
 
   // Hypotheses overlap (targets a few metres apart predict much the same space): the predicted
