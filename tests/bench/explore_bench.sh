@@ -60,13 +60,7 @@ world_args() {
 }
 for world in "${worlds[@]}"; do world_args "$world" >/dev/null; done
 
-if [[ -n $keep ]]; then
-  mkdir -p "$keep"
-  tmp=$(cd "$keep" && pwd)
-else
-  tmp=$(mktemp -d)
-  trap 'rm -rf "$tmp"' EXIT
-fi
+work_dir "$keep"
 
 run_one() {
   local world=$1 seed=$2 status=0
@@ -98,6 +92,15 @@ import json, sys
 
 def fmt(v, pattern):
     return "-" if v is None else pattern % v
+
+def mean(values):
+    return "%.3f" % (sum(values) / len(values)) if values else "-"
+
+def share(values, bound):
+    return "%d of %d" % (sum(v >= bound for v in values), len(values)) if values else "-"
+
+def mean_share(values, bound):
+    return "%s; %s" % (mean(values), share(values, bound)) if values else "-"
 
 rows = {}
 print("| world | seed | full: position error, map Psi (laid onto the world first), state | skip: position error, map Psi (laid onto the world first), state | merged Psi (vs what can be seen) | saved at equal coverage | flags |")
@@ -134,17 +137,12 @@ for world, runs in rows.items():
     print("| %s | %d | %.3f m (%.3f) | %d of %d | %.3f; %d of %d | %.3f; %d of %d | %s | %s | %s |" % (
         world, n, sum(errors) / n, max(errors), sum(e <= 0.3 for e in errors), n,
         sum(psis) / n, sum(p >= 0.75 for p in psis), n, sum(aligned) / n, sum(p >= 0.75 for p in aligned), n,
-        "%.3f; %d of %d" % (sum(merged) / len(merged), sum(m >= 0.7 for m in merged), len(merged)) if merged else "-",
-        "%.3f; %d of %d" % (sum(seen) / len(seen), sum(m >= 0.7 for m in seen), len(seen)) if seen else "-",
+        mean_share(merged, 0.7), mean_share(seen, 0.7),
         "%.1f %% (%d)" % (100 * sum(saved) / len(saved), len(saved)) if saved else "-"))
 
 # The whole population at once, as the targets are stated: every pair, every hypothesis.
 pairs = [r for runs in rows.values() for r in runs]
 saved = [v for _, _, v in pairs if v is not None]
-def share(values, bound):
-    return "%d of %d" % (sum(v >= bound for v in values), len(values)) if values else "-"
-def mean(values):
-    return "%.3f" % (sum(values) / len(values)) if values else "-"
 merged = [s["merged_psi"] for _, s, _ in pairs if s["merged_psi"] is not None]
 seen = [s["merged_psi_observable"] for _, s, _ in pairs if s.get("merged_psi_observable") is not None]
 hyp = [v for _, s, _ in pairs for v in s["psi_truth"] if v is not None]

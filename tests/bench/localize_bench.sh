@@ -48,13 +48,7 @@ find_logs "$data" "$log_list"
 
 find_pslam
 
-if [[ -n $keep ]]; then
-  mkdir -p "$keep"
-  tmp=$(cd "$keep" && pwd)
-else
-  tmp=$(mktemp -d)
-  trap 'rm -rf "$tmp"' EXIT
-fi
+work_dir "$keep"
 
 # Runs a pslam command, its output to $2.out and errors to $2.err; on failure names it and stops.
 run_pslam() {

@@ -69,6 +69,18 @@ measured_revision() {
   echo "$(git rev-parse --short HEAD 2>/dev/null || echo '?')$(git diff --quiet HEAD 2>/dev/null || echo '+changes')"
 }
 
+# Sets $tmp, the folder the runs write to: DIR (made if missing) when given, else a temporary
+# folder removed on exit. work_dir [DIR]
+work_dir() {
+  if [[ -n ${1:-} ]]; then
+    mkdir -p "$1"
+    tmp=$(cd "$1" && pwd)
+  else
+    tmp=$(mktemp -d)
+    trap 'rm -rf "$tmp"' EXIT
+  fi
+}
+
 # Runs in the background, at most $jobs at once, each in its own process group (set -m) so that
 # stopping the script stops whole runs. When one fails the others are stopped and the script ends,
 # keeping $tmp for a look.
