@@ -69,6 +69,12 @@ struct ExploreRow {
 
 std::string RowJson(const ExploreRow& row) {
   const ExplorationSummary& s = row.summary;
+  // Coverage over time, to see where a skip run gains or loses against full coverage.
+  std::vector<double> coverage_time, coverage_fraction;
+  for (const auto& [time, fraction] : row.coverage.samples) {
+    coverage_time.push_back(time);
+    coverage_fraction.push_back(fraction);
+  }
   return JsonObject({{"name", JsonString(row.name)},
                      {"world", JsonString(row.world)},
                      {"seed", JsonNumber(static_cast<double>(row.seed))},
@@ -105,6 +111,8 @@ std::string RowJson(const ExploreRow& row) {
                      {"merged_psi_observable", JsonNumber(row.merged_psi_observable)},
                      {"merged_predicted_area_m2", JsonNumber(row.merged_area_m2)},
                      {"mapped_or_predicted_fraction", JsonNumber(row.mapped_or_predicted)},
+                     {"coverage_time_s", JsonArray(coverage_time)},
+                     {"coverage_fraction", JsonArray(coverage_fraction)},
                      {"psi_truth", JsonArray(row.psi_truth)},
                      {"psi_observable", JsonArray(row.psi_observable)},
                      {"library_hypotheses", JsonNumber(static_cast<double>(

@@ -1,0 +1,65 @@
+#!/usr/bin/env python3
+"""When each run of an exploration pair reached each share of the floor.
+
+Usage: tests/bench/coverage_times.py RUN.json...   (the JSON files explore_bench.sh --keep DIR keeps)
+
+Per pair: the simulated seconds full coverage and skip predicted took to map or predict 50, 75, 90
+and 95 % of the reachable floor, and equal coverage (full coverage's final share less the
+tolerance). Last, over all pairs, each level's skip time as a share of full coverage's time to
+equal coverage: where the skip runs gain, and where they give it back.
+"""
+import json
+import sys
+
+LEVELS = (0.5, 0.75, 0.9, 0.95)
+
+
+def time_to(run, fraction):
+    for t, c in zip(run["coverage_time_s"], run["coverage_fraction"]):
+        if c >= fraction:
+            return t
+    return None
+
+
+def fmt(v):
+    return "-" if v is None else "%.0f" % v
+
+
+def main(paths):
+    if not paths:
+        sys.exit(__doc__.strip())
+    header = " / ".join("%d %%" % (100 * level) for level in LEVELS) + " / equal"
+    print("| world | full: s to %s | skip: s to %s |" % (header, header))
+    print("| --- | --- | --- |")
+    shares = {level: [] for level in LEVELS + ("equal",)}
+    for path in sorted(paths):
+        data = json.load(open(path))
+        for pair in data["pairs"]:
+            full, skip = pair["full"], pair["skip"]
+            if "coverage_time_s" not in full:
+                sys.exit("%s has no coverage trace: run it with a newer pslam" % path)
+            equal = pair["equal_coverage"]
+            times = {run: [time_to(r, level) for level in LEVELS] + [time_to(r, equal)]
+                     for run, r in (("full", full), ("skip", skip))}
+            print("| %s, seed %d | %s | %s |" % (full["world"], full["seed"], " / ".join(map(fmt, times["full"])),
+                                                  " / ".join(map(fmt, times["skip"]))))
+            full_equal = times["full"][-1]
+            if pair["time_limit_hit"] or pair["full_incomplete"] or not full_equal:
+                continue  # not timed, as in the experiment's own figures
+            for level, t in zip(LEVELS + ("equal",), times["skip"]):
+                shares[level].append(None if t is None else t / full_equal)
+    print()
+    print("Skip predicted's time to each level, as a share of full coverage's time to equal coverage "
+          "(mean over the timed pairs; 'never' counts the skip runs that did not get there):")
+    print()
+    print("| level | mean share | never |")
+    print("| --- | --- | --- |")
+    for level, values in shares.items():
+        reached = [v for v in values if v is not None]
+        name = level if level == "equal" else "%d %%" % (100 * level)
+        mean = "%.2f" % (sum(reached) / len(reached)) if reached else "-"
+        print("| %s | %s | %d of %d |" % (name, mean, len(values) - len(reached), len(values)))
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
