@@ -5,8 +5,8 @@ Usage: tests/bench/coverage_times.py RUN.json...   (the JSON files explore_bench
 
 Per pair: the simulated seconds full coverage and skip predicted took to map or predict 50, 75, 90
 and 95 % of the reachable floor, and equal coverage (full coverage's final share less the
-tolerance). Last, over all pairs, each level's skip time as a share of full coverage's time to
-equal coverage: where the skip runs gain, and where they give it back.
+tolerance). Last, over all timed pairs, each run's time to each level as a share of full
+coverage's time to equal coverage: where the skip runs gain, and where they give it back.
 """
 import json
 import sys
@@ -31,7 +31,8 @@ def main(paths):
     header = " / ".join("%d %%" % (100 * level) for level in LEVELS) + " / equal"
     print("| world | full: s to %s | skip: s to %s |" % (header, header))
     print("| --- | --- | --- |")
-    shares = {level: [] for level in LEVELS + ("equal",)}
+    names = ["%d %%" % (100 * level) for level in LEVELS] + ["equal"]
+    shares = {"full": [], "skip": []}  # per run: one list per timed pair, a share per level
     for path in sorted(paths):
         data = json.load(open(path))
         for pair in data["pairs"]:
@@ -46,19 +47,21 @@ def main(paths):
             full_equal = times["full"][-1]
             if pair["time_limit_hit"] or pair["full_incomplete"] or not full_equal:
                 continue  # not timed, as in the experiment's own figures
-            for level, t in zip(LEVELS + ("equal",), times["skip"]):
-                shares[level].append(None if t is None else t / full_equal)
+            for run in shares:
+                shares[run].append([None if t is None else t / full_equal for t in times[run]])
     print()
-    print("Skip predicted's time to each level, as a share of full coverage's time to equal coverage "
-          "(mean over the timed pairs; 'never' counts the skip runs that did not get there):")
+    print("Time to each level as a share of full coverage's time to equal coverage, mean over %d timed pairs "
+          "(in brackets: runs that never got there):" % len(shares["full"]))
     print()
-    print("| level | mean share | never |")
-    print("| --- | --- | --- |")
-    for level, values in shares.items():
-        reached = [v for v in values if v is not None]
-        name = level if level == "equal" else "%d %%" % (100 * level)
-        mean = "%.2f" % (sum(reached) / len(reached)) if reached else "-"
-        print("| %s | %s | %d of %d |" % (name, mean, len(values) - len(reached), len(values)))
+    print("| run | %s |" % " | ".join(names))
+    print("|" + " --- |" * (len(names) + 1))
+    for run, pairs in shares.items():
+        cells = []
+        for i in range(len(names)):
+            reached = [p[i] for p in pairs if p[i] is not None]
+            never = len(pairs) - len(reached)
+            cells.append(("%.2f" % (sum(reached) / len(reached)) if reached else "-") + (" (%d)" % never if never else ""))
+        print("| %s | %s |" % (run, " | ".join(cells)))
 
 
 if __name__ == "__main__":
