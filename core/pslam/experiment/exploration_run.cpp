@@ -166,9 +166,17 @@ bool ExplorationRun::Plan(const Pose2D& pose) {
     // Office seed 2's skip run once stopped with 54 clusters unreachable on the merged map;
     // planned on its own map as well, the robot went on for 88 s.
     const OccupancyGrid& built = slam_.filter().best().map;
-    const ExploreDecision decision = on_merged
-                                         ? SelectNextTargetOnMerged(slam_.MergedMap(), built, request, options_.explore)
-                                         : SelectNextTarget(built, request, options_.explore);
+    const auto select = [&] {
+      return on_merged ? SelectNextTargetOnMerged(slam_.MergedMap(), built, request, options_.explore)
+                       : SelectNextTarget(built, request, options_.explore);
+    };
+    ExploreDecision decision = select();
+    if (skip && options_.verify_pending_predictions && decision.done() && decision.skipped > 0) {
+      request.covered = [settled = slam_.SettledCoverage()](const Eigen::Vector2i& cell) {
+        return settled.Covered(cell);
+      };
+      decision = select();
+    }
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
     summary_.planning_ms += ms;
     summary_.max_planning_ms = std::max(summary_.max_planning_ms, ms);

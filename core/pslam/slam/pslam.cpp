@@ -230,6 +230,16 @@ void PSlam::WithdrawAroundContradictions(std::size_t i, const std::vector<Hypoth
   if (Weighing(h.status)) filter_.RemoveHypothesis(filter_index_[i], ToPredictedCells(withdrawn));
 }
 
+PredictionCoverage PSlam::SettledCoverage() const {
+  PredictionCoverage settled(options_.filter.resolution);
+  for (const Hypothesis& h : hypotheses_) {
+    if (h.status != Hypothesis::Status::kConfirmed && h.status != Hypothesis::Status::kExpired) continue;
+    settled.Add(h.cells);
+    settled.Add(h.undecided_cells);
+  }
+  return settled;
+}
+
 bool PSlam::IsCovered(const Eigen::Vector2i& cell) const { return coverage_.Covered(cell); }
 
 bool PSlam::IsPredictedWall(const Eigen::Vector2i& cell) const { return coverage_.PredictedWall(cell); }

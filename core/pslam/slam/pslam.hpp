@@ -67,6 +67,9 @@ class PSlam {
   // The covered cells and predicted walls, for planning on a snapshot off this thread (copying
   // shares the tiles).
   const PredictionCoverage& coverage() const { return coverage_; }
+  // The same over the settled hypotheses only: confirmed, or expired (unobserved for expiry_s with
+  // nothing against them). Built on each call.
+  PredictionCoverage SettledCoverage() const;
   // The best map with the cells of the hypotheses that were not refuted written into unknown
   // cells, and into undecided ones (Hypothesis::undecided_cells); only of those confirmed or with
   // Psi >= min_psi (what the predictor reads, PSlamOptions::predict_from_psi).
