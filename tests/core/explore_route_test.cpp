@@ -89,12 +89,17 @@ TEST(ExploreRouteTest, TheSearchStopsOnceTheBestGoalIsSettled) {
   EXPECT_LT(decision.expanded_nodes, 40000u);
 }
 
-TEST(ExploreRouteTest, APredictedWallDoesNotSealAWingOff) {
-  // A corridor closed at its left end. Its side walls are mapped on to x = 12 m; beyond x = 10 m a
-  // hypothesis predicts 2 m more corridor and a wall across it at x = 12 m, merged into the map. In
-  // truth the corridor opens there onto a hall, part of which the laser saw through a gap: known
-  // free space at x in [13, 16] m, y in [-3, 5] m, with unknown space west and east of it.
+// A corridor whose side walls are mapped on to x = 12 m; beyond x = 10 m a hypothesis predicts 2 m
+// more corridor and a wall across it at x = 12 m, merged into the map. In truth the corridor opens
+// there onto a hall, part of which the laser saw through a gap: known free space at x in [13, 16] m,
+// y in [-3, 5] m, with unknown space west and east of it. Closed at x = 0, or open at x = -30 m.
+OccupancyGrid CorridorSealedByAPrediction(bool left_open) {
   OccupancyGrid grid = Corridor(10.0, false, true);
+  if (left_open) {
+    Fill(grid, -30.0, 0.0, 0.05, 2.0, kFree);
+    Fill(grid, -30.0, -0.05, 0.0, 0.0, kOccupied);
+    Fill(grid, -30.0, 2.0, 0.0, 2.05, kOccupied);
+  }
   Fill(grid, 10.0, 0.0, 12.0, 2.0, kFree);
   Fill(grid, 12.0, 0.0, 12.05, 2.0, kOccupied);
   Fill(grid, 10.0, -0.05, 12.05, 0.0, kOccupied);  // mapped
@@ -102,15 +107,31 @@ TEST(ExploreRouteTest, APredictedWallDoesNotSealAWingOff) {
   Fill(grid, 13.0, -3.0, 16.0, 5.0, kFree);
   Fill(grid, 13.0, -3.05, 16.0, -3.0, kOccupied);
   Fill(grid, 13.0, 5.0, 16.0, 5.05, kOccupied);
+  return grid;
+}
+
+ExploreOptions WithWayIns() {
   ExploreOptions options;
   options.mode = ExploreMode::kSkipPredicted;
   options.way_in_cost_factor = 3.0;
-  ExploreRequest request = RobotAt(2.0, 1.0);
+  return options;
+}
+
+// The robot at (x, 1) in CorridorSealedByAPrediction, told what the hypothesis predicts.
+ExploreRequest InTheSealedCorridorAt(double x) {
+  ExploreRequest request = RobotAt(x, 1.0);
   request.covered = [](const Eigen::Vector2i& c) {  // between the mapped side walls
     return c.x() >= Cell(10.0) && c.x() <= Cell(12.0) && c.y() >= 0 && c.y() < Cell(2.0);
   };
   request.predicted = request.covered;
   request.predicted_wall = [](const Eigen::Vector2i& c) { return c.x() == Cell(12.0); };
+  return request;
+}
+
+TEST(ExploreRouteTest, APredictedWallDoesNotSealAWingOff) {
+  const OccupancyGrid grid = CorridorSealedByAPrediction(false);
+  ExploreOptions options = WithWayIns();
+  ExploreRequest request = InTheSealedCorridorAt(2.0);
 
   const ExploreDecision decision = SelectNextTarget(grid, request, options);
   ASSERT_FALSE(decision.done());
@@ -131,6 +152,27 @@ TEST(ExploreRouteTest, APredictedWallDoesNotSealAWingOff) {
   request.tried_way_ins.clear();
   options.way_in_cost_factor = 0.0;
   EXPECT_TRUE(SelectNextTarget(grid, request, options).done());
+}
+
+TEST(ExploreRouteTest, AWayInIsTakenWhenFarNearerThanTheFrontierOtherwiseChosen) {
+  // The corridor goes on left to x = -30 m, where it is open: a frontier a traversable way reaches.
+  const OccupancyGrid grid = CorridorSealedByAPrediction(true);
+  // At x = 9 m the way in (3 m to the predicted wall, then about 1 m of unverified cells at three
+  // times their length) costs far less than the 39 m to the left end: look behind the wall in
+  // passing, rather than come back once the rest is done.
+  ExploreDecision decision = SelectNextTarget(grid, InTheSealedCorridorAt(9.0), WithWayIns());
+  ASSERT_FALSE(decision.done());
+  EXPECT_TRUE(decision.target->way_in);
+  EXPECT_GT(decision.target->position.x(), 11.0);
+
+  // At x = -20 m the left end is the nearer; at x = 0, 30 m from it, the way in is nearer, but not
+  // three times: no detour for a guess.
+  for (const double x : {-20.0, 0.0}) {
+    decision = SelectNextTarget(grid, InTheSealedCorridorAt(x), WithWayIns());
+    ASSERT_FALSE(decision.done());
+    EXPECT_FALSE(decision.target->way_in) << x;
+    EXPECT_LT(decision.target->position.x(), -29.9) << x;
+  }
 }
 
 }  // namespace

@@ -173,6 +173,7 @@ ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest
     std::size_t best = clusters.size();
     Eigen::Vector2i best_cell{0, 0};
     double best_score = std::numeric_limits<double>::infinity();
+    double best_cost = 0.0;
     for (std::size_t k = 0; k < clusters.size(); ++k) {
       const FrontierCluster& cluster = clusters[k];
       // The representative: the reached cell nearest the centroid; the cluster's cost: its cheapest
@@ -213,6 +214,7 @@ ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest
       const double score = entry_cost - worth[k];
       if (score < best_score) {
         best_score = score;
+        best_cost = entry_cost;
         best = k;
         best_cell = *representative;
       }
@@ -224,6 +226,7 @@ ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest
       target.position = grid.CellCenter(best_cell);
       target.path_length = t.Length(best_cell);
       target.path = t.PathTo(best_cell);
+      target.cost = best_cost;
       d.target = std::move(target);
     }
     return d;
@@ -242,14 +245,21 @@ ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest
     tree = GrowSearchTree(planning, request.robot_position, std::nullopt, {}, planning.size());
     decision = choose(tree);
   }
-  if (!decision.done() || options.way_in_cost_factor <= 0.0 || !request.predicted || tree.truncated()) {
-    return decision;
-  }
+  if (options.way_in_cost_factor <= 0.0 || !request.predicted || tree.truncated()) return decision;
 
-  // Way in: the nearest cluster that is not covered and that no traversable way reaches.
+  // Way in: the nearest cluster that is not covered and that no traversable way reaches. While a
+  // frontier is left to go to, only one way_in_premium times nearer (the search stops beyond): a
+  // wing a predicted wall sealed off is entered as the robot passes it, not in a crossing of the
+  // whole building once everything else is done, but a way in is a guess, the predicted wall most
+  // often right, and no detour for a guess.
   std::vector<int> wanted(clusters.size(), -1);  // -1 unknown, 0 no, 1 yes
   WayInSearch search;
   search.cost_factor = options.way_in_cost_factor;
+  if (decision.target) {
+    search.max_cost = decision.target->cost / options.way_in_premium;
+    // A tree stopped early settled every cell up to best_bound + max_worth, and no further.
+    if (tree.stopped()) search.max_cost = std::min(search.max_cost, best_bound + max_worth);
+  }
   search.unverified = [&](const Eigen::Vector2i& c) {
     const auto is_predicted = [&](const Eigen::Vector2i& n) {
       return request.predicted(n) || (request.predicted_wall && request.predicted_wall(n));
@@ -296,6 +306,7 @@ ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest
   target.path_length = tree.Length(way_in->exit);
   target.path = tree.PathTo(way_in->exit);
   target.way_in = true;
+  target.cost = way_in->cost;
   decision.target = std::move(target);
   return decision;
 }

@@ -59,13 +59,16 @@ struct ExploreOptions {
   // forth between frontiers at nearly the same cost each time it replans.
   double keep_goal_bonus = 3.0;   // m
   double keep_goal_radius = 1.0;  // m
-  // Way in (skip-predicted, when no frontier is left to go to): predicted cells are not verified,
-  // and a predicted wall may stand where the building opens. The search then goes on through
-  // predicted and unknown cells at way_in_cost_factor times their length, and when it reaches a
-  // cluster that is not covered, the target is where that way leaves the traversable space. 0: off.
+  // Way in (skip-predicted): predicted cells are not verified, and a predicted wall may stand where
+  // the building opens. A second search goes on from the traversable space through predicted and
+  // unknown cells at way_in_cost_factor times their length, and when it reaches a cluster that is
+  // not covered, the target is where that way leaves the traversable space. 0: off. While there is
+  // a frontier to go to, a way in is taken only if it costs less than that frontier's path cost
+  // divided by way_in_premium.
   // Exits within way_in_tried_radius of one the caller already reached are not offered again, nor
   // ways through the unverified cells that close to it.
   double way_in_cost_factor = 0.0;
+  double way_in_premium = 3.0;
   double way_in_tried_radius = 1.5;  // m
 };
 
@@ -101,6 +104,7 @@ struct ExploreTarget {
   // 'position' is not on the cluster but where the way to it leaves the traversable space
   // (ExploreOptions::way_in_cost_factor); the caller reports it in tried_way_ins once reached.
   bool way_in = false;
+  double cost = 0.0;  // path cost to 'position' (for a way in, on to the cluster), m
 };
 
 struct ExploreDecision {

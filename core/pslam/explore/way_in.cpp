@@ -38,9 +38,10 @@ std::optional<WayIn> FindWayIn(const PlanningGrid& grid, const SearchTree& tree,
     const auto [d, i] = open.top();
     open.pop();
     if (d > cost[i]) continue;  // stale
+    if (d > search.max_cost) return std::nullopt;
     const Eigen::Vector2i c = grid.CellAt(i);
     const int cluster = search.wanted_cluster(i);
-    if (cluster >= 0 && !tree.Reached(c)) return WayIn{grid.CellAt(static_cast<std::size_t>(exit[i])), cluster};
+    if (cluster >= 0 && !tree.Reached(c)) return WayIn{grid.CellAt(static_cast<std::size_t>(exit[i])), cluster, d};
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) {
         if (dx == 0 && dy == 0) continue;
