@@ -173,7 +173,6 @@ ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest
     std::size_t best = clusters.size();
     Eigen::Vector2i best_cell{0, 0};
     double best_score = std::numeric_limits<double>::infinity();
-    double best_cost = 0.0;
     for (std::size_t k = 0; k < clusters.size(); ++k) {
       const FrontierCluster& cluster = clusters[k];
       // The representative: the reached cell nearest the centroid; the cluster's cost: its cheapest
@@ -214,7 +213,6 @@ ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest
       const double score = entry_cost - worth[k];
       if (score < best_score) {
         best_score = score;
-        best_cost = entry_cost;
         best = k;
         best_cell = *representative;
       }
@@ -226,7 +224,7 @@ ExploreDecision SelectNextTarget(const OccupancyGrid& grid, const ExploreRequest
       target.position = grid.CellCenter(best_cell);
       target.path_length = t.Length(best_cell);
       target.path = t.PathTo(best_cell);
-      target.cost = best_cost;
+      target.cost = best_score + worth[best];
       d.target = std::move(target);
     }
     return d;

@@ -20,10 +20,12 @@ std::optional<WayIn> FindWayIn(const PlanningGrid& grid, const SearchTree& tree,
     if (!grid.Contains(c) || tree.Reached(c)) return false;
     return grid.IsTraversable(c) || search.unverified(c);
   };
-  // Seeds: settled cells with an enterable neighbour, at their own cost.
+  // Seeds: settled cells with an enterable neighbour, at their own cost; none beyond max_cost,
+  // where the search would stop anyway (it runs on every plan, the seeds' tests are its bulk).
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector2i c = grid.CellAt(i);
-    if (!tree.Reached(c) || (search.excluded_exit && search.excluded_exit(c))) continue;
+    if (!tree.Reached(c) || tree.Cost(c) > search.max_cost) continue;
+    if (search.excluded_exit && search.excluded_exit(c)) continue;
     bool border = false;
     for (int dy = -1; dy <= 1 && !border; ++dy) {
       for (int dx = -1; dx <= 1 && !border; ++dx)
