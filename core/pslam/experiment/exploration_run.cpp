@@ -39,7 +39,11 @@ ExplorationOptions DefaultExplorationOptions() {
   // the maps doubled walls (office mean position error 0.49-0.77 m, map Psi 0.14-0.32; with it
   // 0.09 m and 0.76-0.78, seeds 1-4, docs/loop-closure.md). Real logs' odometry is far worse:
   // this weight took ACES from 0.038 to 0.17 m RPE, so the filter's own default is none.
-  SetMatchPrior(options.slam.filter, 30.0);
+  // The heading is held too, more lightly: stepping through a door into a room mapped only
+  // through it, the matches turned the robot by 1.5 degrees within a second, and with no loop to
+  // close the rest of a long loop-free building was mapped bent (generated school 25, 2-6 m off).
+  // At 40 the wheels' early turn error held instead (docs/loop-closure.md).
+  SetMatchPrior(options.slam.filter, 30.0, 10.0);
   // The simulated walls lie on the edges of the map's cells, where matching on cell centres both
   // turns the scan (a wall pulls endpoints half a cell into itself) and holds the map on the true
   // grid. With hit offsets the turn is gone but so is the hold: the office drifted twice as far

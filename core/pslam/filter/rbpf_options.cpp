@@ -109,9 +109,11 @@ void SetDegenerateRatio(RbpfOptions& options, double ratio) {
   options.particle_match.degenerate_ratio = ratio;
 }
 
-void SetMatchPrior(RbpfOptions& options, double translation_weight) {
-  options.tracking_match.prior_translation_weight = translation_weight;
-  options.particle_match.prior_translation_weight = translation_weight;
+void SetMatchPrior(RbpfOptions& options, double translation_weight, double rotation_weight) {
+  for (ScanMatchOptions* match : {&options.tracking_match, &options.particle_match}) {
+    match->prior_translation_weight = translation_weight;
+    match->prior_rotation_weight = rotation_weight;
+  }
 }
 
 void SetHitOffsets(RbpfOptions& options, bool enabled) {

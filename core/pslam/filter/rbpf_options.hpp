@@ -81,9 +81,10 @@ std::string SetRbpfOption(RbpfOptions& options, const std::string& name, const s
 // and the particle matches, as the simulated explorations and server sessions set it.
 void SetDegenerateRatio(RbpfOptions& options, double ratio);
 
-// The scan matcher's prior toward odometry (ScanMatchOptions::prior_translation_weight) for both
-// the tracking and the particle matches: how far the wheels are trusted where the scan says little.
-void SetMatchPrior(RbpfOptions& options, double translation_weight);
+// The scan matcher's prior toward odometry (ScanMatchOptions::prior_translation_weight and
+// prior_rotation_weight) for both the tracking and the particle matches: how far the wheels are
+// trusted where the scan says little.
+void SetMatchPrior(RbpfOptions& options, double translation_weight, double rotation_weight = 0.0);
 
 // ScanMatchOptions::hit_offsets for both the tracking and the particle matches.
 void SetHitOffsets(RbpfOptions& options, bool enabled);
