@@ -5,7 +5,6 @@
 // run ended 3.6 m off on average. The matches' prior toward the wheels' heading holds it.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cmath>
 #include <variant>
 
@@ -26,19 +25,22 @@ TEST(ExplorationHeadingTest, ASkipRunKeepsItsHeadingThroughTheDoorsOfALongSchool
   options.explore.area = plan.world.Extent();
   options.time_limit_s = 700.0;
 
+  // From 400 s on: the door comes at 491 s, and the first minutes carry the wheels' turn error
+  // before the odometry calibration has learnt it.
   ExplorationRun run(plan.world, plan.start, options);
   double worst_heading_error = 0.0, worst_at = 0.0;
   while (!run.done()) {
     const ExplorationStep step = run.Step();
     for (const SimulatorEvent& event : step.events) {
-      if (!std::holds_alternative<LaserScan>(event.data)) continue;
+      if (!std::holds_alternative<LaserScan>(event.data) || run.time() < 400.0) continue;
       const double error = std::abs(NormalizeAngle(event.true_pose.theta - step.estimated_pose.theta));
       if (error > worst_heading_error) worst_heading_error = error, worst_at = run.time();
     }
   }
   ASSERT_GT(run.time(), 600.0) << "the run should get past the door at 491 s";
-  // With the prior the heading stays within 0.006 rad; without it, 0.03 rad from 491 s on.
-  EXPECT_LT(worst_heading_error, 0.015) << "at " << worst_at << " s";
+  // With the prior: 0.009 rad at worst, 0.07 m off at 700 s. Without: 0.049 rad and 0.77 m.
+  EXPECT_LT(worst_heading_error, 0.02) << "at " << worst_at << " s";
+  EXPECT_LT(run.Summary().final_position_error_m, 0.3);
 }
 
 }  // namespace
