@@ -8,26 +8,16 @@
 #include <cmath>
 #include <variant>
 
-#include "pslam/experiment/exploration_run.hpp"
-#include "pslam/sim/floorplan.hpp"
+#include "testing/skip_run.hpp"
 
 namespace pslam {
 namespace {
 
 TEST(ExplorationHeadingTest, ASkipRunKeepsItsHeadingThroughTheDoorsOfALongSchool) {
   const FloorPlan plan = GenerateFloorPlan(FloorPlanFamily::kSchool, 25);
-  ExplorationOptions options = DefaultExplorationOptions();  // as 'pslam experiment explore --seed 2'
-  options.slam.filter.seed = options.simulator.seed = 2;
-  options.slam.filter.threads = 1;
-  options.slam.predictor.similarity_threshold = 0.6;
-  options.slam.predict = true;
-  options.explore.mode = ExploreMode::kSkipPredicted;
-  options.explore.area = plan.world.Extent();
-  options.time_limit_s = 700.0;
-
   // From 400 s on: the door comes at 491 s, and the first minutes carry the wheels' turn error
   // before the odometry calibration has learnt it.
-  ExplorationRun run(plan.world, plan.start, options);
+  ExplorationRun run(plan.world, plan.start, testing::SkipRunOptions(plan, 2, 700.0));
   double worst_heading_error = 0.0, worst_at = 0.0;
   while (!run.done()) {
     const ExplorationStep step = run.Step();

@@ -5,21 +5,13 @@
 #include <gtest/gtest.h>
 
 #include "pslam/experiment/equal_coverage.hpp"
-#include "pslam/experiment/exploration_run.hpp"
-#include "pslam/sim/floorplan.hpp"
+#include "testing/skip_run.hpp"
 
 namespace pslam {
 namespace {
 
-ExplorationOptions SkipRunOptions(const FloorPlan& plan, bool verify_pending) {
-  ExplorationOptions options = DefaultExplorationOptions();  // as 'pslam experiment explore --seed 2'
-  options.slam.filter.seed = options.simulator.seed = 2;
-  options.slam.filter.threads = 1;
-  options.slam.predictor.similarity_threshold = 0.6;
-  options.slam.predict = true;
-  options.explore.mode = ExploreMode::kSkipPredicted;
-  options.explore.area = plan.world.Extent();
-  options.time_limit_s = 1000.0;
+ExplorationOptions WithPendingRule(const FloorPlan& plan, bool verify_pending) {
+  ExplorationOptions options = testing::SkipRunOptions(plan, 2, 1000.0);
   options.verify_pending_predictions = verify_pending;
   return options;
 }
@@ -28,13 +20,13 @@ TEST(PendingPredictionsTest, ASkipRunDoesNotEndWhilePendingPredictionsCoverItsFr
   const FloorPlan plan = GenerateFloorPlan(FloorPlanFamily::kOffice, 22);
   const OccupancyGrid reachable = ReachableFreeCells(plan.world, plan.start.translation());
 
-  ExplorationRun trusting(plan.world, plan.start, SkipRunOptions(plan, false));
+  ExplorationRun trusting(plan.world, plan.start, WithPendingRule(plan, false));
   trusting.Run();
   ASSERT_EQ(trusting.state(), ExplorationState::kExplored) << "the case no longer arises: " << trusting.time() << " s";
   const double trusted = MappedOrPredictedNow(trusting, reachable);
   EXPECT_LT(trusted, 0.5);
 
-  ExplorationRun checking(plan.world, plan.start, SkipRunOptions(plan, true));
+  ExplorationRun checking(plan.world, plan.start, WithPendingRule(plan, true));
   checking.Run();
   // It goes on past where the other ended. Checking the predictions adds little at first (what
   // it looks at was predicted already), then what they got wrong shows, and the floor accounted
